@@ -1,0 +1,93 @@
+"""Mass properties of a link, computed from its collision geometry with trimesh."""
+
+from __future__ import annotations
+
+import xml.etree.ElementTree as ET
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+import trimesh
+
+from qdsega.errors import FormationError
+
+
+@dataclass(frozen=True)
+class MassProperties:
+    """Rigid-body inertia of a link.
+
+    Attributes:
+        mass_kg: mass (kg).
+        center_of_mass_m: centre of mass in the link frame (m), shape (3,).
+        inertia_kg_m2: inertia tensor about the centre of mass, link-frame axes (kg m^2),
+            shape (3, 3).
+    """
+
+    mass_kg: float
+    center_of_mass_m: np.ndarray
+    inertia_kg_m2: np.ndarray
+
+
+def link_mass_properties(link: ET.Element, mass_kg: float, *, folder: Path) -> MassProperties:
+    """Mass properties of ``link`` (a URDF ``<link>``) of uniform density and total ``mass_kg``.
+
+    Every ``<collision>`` shape (box, cylinder, sphere, or a closed mesh relative to ``folder``)
+    contributes its volume; shapes must not overlap.
+    """
+    meshes = [_collision_mesh(c, folder) for c in link.findall("collision")]
+    combined = trimesh.util.concatenate(meshes)
+    volume = float(combined.volume)
+    if not volume > 0.0:
+        raise FormationError(f"link {link.get('name')}: collision volume must be positive")
+    combined.density = mass_kg / volume
+    return MassProperties(
+        mass_kg=float(combined.mass),
+        center_of_mass_m=np.asarray(combined.center_mass, dtype=float),
+        inertia_kg_m2=np.asarray(combined.moment_inertia, dtype=float),
+    )
+
+
+def _collision_mesh(collision: ET.Element, folder: Path) -> trimesh.Trimesh:
+    transform = _origin_transform(collision.find("origin"))
+    geometry = collision.find("geometry")
+    shape = None if geometry is None or len(geometry) == 0 else geometry[0]
+    if shape is None:
+        raise FormationError("a <collision> needs a <geometry>")
+    if shape.tag == "box":
+        extents = _floats(shape.get("size"), 3, "box size")
+        return trimesh.creation.box(extents=extents, transform=transform)
+    if shape.tag == "cylinder":
+        radius = _floats(shape.get("radius"), 1, "cylinder radius")[0]
+        length = _floats(shape.get("length"), 1, "cylinder length")[0]
+        return trimesh.creation.cylinder(radius=radius, height=length, transform=transform)
+    if shape.tag == "sphere":
+        radius = _floats(shape.get("radius"), 1, "sphere radius")[0]
+        return trimesh.creation.icosphere(subdivisions=4, radius=radius).apply_transform(transform)
+    if shape.tag == "mesh":
+        mesh = trimesh.load_mesh(folder / shape.get("filename", ""), force="mesh")
+        if not mesh.is_watertight:
+            raise FormationError(f"collision mesh {shape.get('filename')} is not closed")
+        return mesh.apply_transform(transform)
+    raise FormationError(f"unsupported collision geometry <{shape.tag}>")
+
+
+def _origin_transform(origin: ET.Element | None) -> np.ndarray:
+    if origin is None:
+        return np.eye(4)
+    xyz = _floats(origin.get("xyz", "0 0 0"), 3, "origin xyz", positive=False)
+    rpy = _floats(origin.get("rpy", "0 0 0"), 3, "origin rpy", positive=False)
+    transform = trimesh.transformations.euler_matrix(*rpy, axes="sxyz")
+    transform[:3, 3] = xyz
+    return transform
+
+
+def _floats(text: str | None, count: int, what: str, *, positive: bool = True) -> list[float]:
+    try:
+        values = [float(x) for x in (text or "").split()]
+    except ValueError:
+        values = []
+    if len(values) != count:
+        raise FormationError(f"{what} needs {count} number(s), got {text!r}")
+    if positive and not all(v > 0 for v in values):
+        raise FormationError(f"{what} must be positive, got {text!r}")
+    return values

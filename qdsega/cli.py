@@ -1,0 +1,42 @@
+"""The ``qdsega`` command: one subcommand per module in :mod:`qdsega.commands`."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from collections.abc import Sequence
+
+from qdsega import __version__
+from qdsega.commands import assemble
+from qdsega.errors import FormationError
+
+COMMANDS = (assemble,)
+"""Each module provides ``NAME``, ``HELP``, ``add_arguments(parser)`` and ``run(args) -> int``."""
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(prog="qdsega", description=__doc__)
+    parser.add_argument("--version", action="version", version=f"qdsega {__version__}")
+    subparsers = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
+    for command in COMMANDS:
+        sub = subparsers.add_parser(command.NAME, help=command.HELP, description=command.HELP)
+        command.add_arguments(sub)
+        sub.set_defaults(run=command.run)
+    return parser
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Entry point. Bad input exits with status 2 and one line on stderr."""
+    args = build_parser().parse_args(argv)
+    try:
+        return args.run(args)
+    except FormationError as exc:
+        print(f"qdsega {args.command}: error: {exc}", file=sys.stderr)
+        return 2
+    except KeyboardInterrupt:
+        print(f"qdsega {args.command}: interrupted", file=sys.stderr)
+        return 130
+
+
+if __name__ == "__main__":
+    sys.exit(main())

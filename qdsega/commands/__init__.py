@@ -1,0 +1,1 @@
+"""Subcommands of the ``qdsega`` command line, one module each."""

@@ -1,0 +1,26 @@
+"""Descriptions: YAML unit and formation files read into validated dataclasses."""
+
+from qdsega.description.formation import (
+    ActuatedJoint,
+    Formation,
+    Friction,
+    Leg,
+    Light,
+    PlacedUnit,
+    load_formation,
+)
+from qdsega.description.unit_type import Connector, JointSpec, UnitType, load_unit_type
+
+__all__ = [
+    "ActuatedJoint",
+    "Connector",
+    "Formation",
+    "Friction",
+    "JointSpec",
+    "Leg",
+    "Light",
+    "PlacedUnit",
+    "UnitType",
+    "load_formation",
+    "load_unit_type",
+]

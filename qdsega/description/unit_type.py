@@ -1,0 +1,172 @@
+"""Unit types: one folder per unit under ``units/``, a ``unit.yaml`` and a URDF link template.
+
+A unit is one rigid body. An *active* unit also owns one revolute joint, the joint that attaches
+it to its parent in a formation; a *passive* unit (no ``joint`` section) attaches rigidly.
+The unit frame's origin is the attachment point; the body trails along the unit's -x axis.
+"""
+
+from __future__ import annotations
+
+import math
+import xml.etree.ElementTree as ET
+from dataclasses import dataclass
+from pathlib import Path
+
+from qdsega.description.yaml_reader import Reader, load_yaml
+from qdsega.errors import FormationError
+
+LINK_PLACEHOLDER = "${link}"
+"""Written in a link template wherever the link's (unique) name goes."""
+
+
+@dataclass(frozen=True)
+class Connector:
+    """Where a child unit attaches: a frame in the unit's frame.
+
+    Attributes:
+        name: connector name, unique in its unit.
+        xyz_m: position (m), shape (3,).
+        rpy_rad: orientation as roll, pitch, yaw (rad), shape (3,).
+    """
+
+    name: str
+    xyz_m: tuple[float, float, float]
+    rpy_rad: tuple[float, float, float]
+
+
+@dataclass(frozen=True)
+class JointSpec:
+    """The active joint's actuator: limits of a servo motor.
+
+    Attributes:
+        lower_rad: lower position limit (rad).
+        upper_rad: upper position limit (rad).
+        effort_nm: maximum torque (N m).
+        velocity_rad_s: maximum angular speed (rad/s).
+    """
+
+    lower_rad: float
+    upper_rad: float
+    effort_nm: float
+    velocity_rad_s: float
+
+
+@dataclass(frozen=True)
+class UnitType:
+    """A unit type read from ``units/<name>/unit.yaml``.
+
+    Attributes:
+        name: unit type name (its folder's name).
+        folder: the unit's folder.
+        description: one line for humans.
+        mass_kg: total mass (kg); inertia follows from the collision geometry.
+        link_template: URDF text of one ``<link>`` (inside ``<robot>``), with ``${link}``.
+        template_file: where ``link_template`` came from.
+        joint: the active joint's actuator, or None for a passive unit.
+        connectors: attachment frames by name.
+    """
+
+    name: str
+    folder: Path
+    description: str
+    mass_kg: float
+    link_template: str
+    template_file: Path
+    joint: JointSpec | None
+    connectors: dict[str, Connector]
+
+    @property
+    def is_active(self) -> bool:
+        return self.joint is not None
+
+
+def load_unit_type(units_dir: Path, name: str) -> UnitType:
+    """Read unit type ``name`` from ``units_dir/name/unit.yaml``.
+
+    Raises:
+        FormationError: missing folder, bad ``unit.yaml`` or bad link template.
+    """
+    folder = units_dir / name
+    file = folder / "unit.yaml"
+    if not file.is_file():
+        raise FormationError(f"unknown unit type '{name}' (no {file})")
+    reader = Reader(load_yaml(file))
+    raw = reader.mapping(
+        (),
+        reader.document.data,
+        required=("mass_kg", "link_template", "connectors"),
+        optional=("description", "joint"),
+    )
+    description = reader.text(("description",), raw.get("description", name))
+    mass_kg = reader.number(("mass_kg",), raw["mass_kg"], positive=True)
+    joint = None if "joint" not in raw else _read_joint(reader, raw["joint"])
+    connectors_raw = reader.mapping(("connectors",), raw["connectors"], optional=raw["connectors"])
+    connectors = {}
+    for key, value in connectors_raw.items():
+        path = ("connectors", key)
+        entry = reader.mapping(path, value, required=("xyz_m",), optional=("rpy_deg",))
+        xyz = reader.vector((*path, "xyz_m"), entry["xyz_m"], 3)
+        rpy = reader.vector((*path, "rpy_deg"), entry.get("rpy_deg", [0, 0, 0]), 3)
+        connectors[key] = Connector(key, xyz, tuple(math.radians(a) for a in rpy))  # type: ignore[arg-type]
+    template_name = reader.text(("link_template",), raw["link_template"])
+    template_file = folder / template_name
+    if not template_file.is_file():
+        raise reader.error(("link_template",), f"template file not found: {template_file}")
+    template = template_file.read_text(encoding="utf-8")
+    _check_template(template, template_file, project_root=units_dir.resolve().parent)
+    return UnitType(
+        name=name,
+        folder=folder,
+        description=description,
+        mass_kg=mass_kg,
+        link_template=template,
+        template_file=template_file,
+        joint=joint,
+        connectors=connectors,
+    )
+
+
+def _read_joint(reader: Reader, value: object) -> JointSpec:
+    path = ("joint",)
+    raw = reader.mapping(
+        path, value, required=("lower_deg", "upper_deg", "effort_nm", "velocity_rad_s")
+    )
+    lower = reader.number((*path, "lower_deg"), raw["lower_deg"])
+    upper = reader.number((*path, "upper_deg"), raw["upper_deg"])
+    if not lower < upper:
+        raise reader.error((*path, "upper_deg"), f"must exceed lower_deg ({lower}), got {upper}")
+    return JointSpec(
+        lower_rad=math.radians(lower),
+        upper_rad=math.radians(upper),
+        effort_nm=reader.number((*path, "effort_nm"), raw["effort_nm"], positive=True),
+        velocity_rad_s=reader.number(
+            (*path, "velocity_rad_s"), raw["velocity_rad_s"], positive=True
+        ),
+    )
+
+
+def mesh_files(template: str, folder: Path) -> list[Path]:
+    """Mesh files a link template references, resolved against the unit's folder."""
+    root = ET.fromstring(template.replace(LINK_PLACEHOLDER, "placeholder"))
+    return [(folder / mesh.get("filename", "")).resolve() for mesh in root.iter("mesh")]
+
+
+def _check_template(template: str, file: Path, *, project_root: Path) -> None:
+    try:
+        root = ET.fromstring(template.replace(LINK_PLACEHOLDER, "placeholder"))
+    except ET.ParseError as exc:
+        raise FormationError(f"link template is not valid XML: {exc}", file=file) from None
+    links = root.findall("link")
+    if root.tag != "robot" or len(links) != 1 or len(root) != 1:
+        raise FormationError("link template must be <robot> holding exactly one <link>", file=file)
+    if LINK_PLACEHOLDER not in template:
+        raise FormationError(f"link template must name its link {LINK_PLACEHOLDER}", file=file)
+    if links[0].find("collision") is None:
+        raise FormationError("link template needs a <collision> geometry", file=file)
+    if links[0].find("inertial") is not None:
+        raise FormationError("link template must not set <inertial>: it is computed", file=file)
+    for mesh in mesh_files(template, file.parent):
+        if not mesh.is_relative_to(project_root):
+            raise FormationError(f"mesh path escapes the project folder {project_root}", file=file)
+        if not mesh.is_file():
+            raise FormationError(f"mesh file not found: {mesh}", file=file)
