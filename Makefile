@@ -15,7 +15,7 @@ $(BIN)/qdsega: pyproject.toml
 setup: $(BIN)/qdsega
 
 demo: setup
-	$(BIN)/qdsega assemble-all assemblies --out out/assemblies
+	$(BIN)/qdsega assemble assemblies/*.yaml --out-dir out/assemblies
 
 lint: setup
 	$(BIN)/ruff check qdsega tools tests

@@ -21,8 +21,8 @@ from qdsega.description.formation import Formation, PlacedUnit
 from qdsega.description.unit_type import LINK_PLACEHOLDER, Connector
 from qdsega.errors import FormationError
 
-MESH_FOLDER = "meshes"
-"""Meshes are written next to the URDF, in this folder, one subfolder per unit type."""
+ASSET_FOLDER = "assets"
+"""Meshes are copied next to the URDF into this folder, one subfolder per unit type."""
 
 
 @dataclass(frozen=True)
@@ -108,7 +108,7 @@ def _link(
     for mesh in link.iter("mesh"):
         source = (unit_type.folder / mesh.get("filename", "")).resolve()
         relative = source.relative_to(unit_type.folder.resolve()).as_posix()
-        target = f"{MESH_FOLDER}/{unit_type.name}/{relative}"
+        target = f"{ASSET_FOLDER}/{unit_type.name}/{relative}"
         mesh.set("filename", target)
         assets[target] = source
     return link, assets

@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import math
 import re
+from collections.abc import Sequence
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any, Literal
@@ -170,6 +171,26 @@ class Formation:
         if joint_name not in names:
             raise KeyError(f"{self.name} has no actuated joint {joint_name!r}")
         return names.index(joint_name)
+
+    def rest_levels(self) -> tuple[int, ...]:
+        """A standing start posture, as one level index per joint in :attr:`joints` order.
+
+        Legs stand: swing forward (level 0) and lift down (level 0). Every other joint takes
+        the level nearest to 0 rad (the first of equally near ones).
+        """
+        leg_joints = {leg.swing_joint for leg in self.legs} | {leg.lift_joint for leg in self.legs}
+        return tuple(
+            0
+            if joint.name in leg_joints
+            else min(range(len(joint.levels_rad)), key=lambda k: abs(joint.levels_rad[k]))
+            for joint in self.joints
+        )
+
+    def posture_rad(self, levels: Sequence[int]) -> tuple[float, ...]:
+        """Joint angles (rad), shape (J,), of a posture given as level indices, shape (J,)."""
+        if len(levels) != len(self.joints):
+            raise ValueError(f"{self.name} has {len(self.joints)} joints, got {len(levels)} levels")
+        return tuple(j.levels_rad[k] for j, k in zip(self.joints, levels, strict=True))
 
     def legs_on(self, side: Side) -> tuple[Leg, ...]:
         return tuple(leg for leg in self.legs if leg.side == side)
@@ -349,7 +370,7 @@ def _expand(
             fields = {
                 key: _Value(_substitute(val, i), (*path, key))
                 for key, val in entry.items()
-                if key not in ("repeat", "name")
+                if key != "repeat"
             }
             name = _substitute(name_template, i)
             if not is_instance:
@@ -392,7 +413,7 @@ def _instantiate(reader: Reader, instance: _RawUnit, template: _Template) -> lis
     expanded = []
     for unit_path, unit in template.units:
         local = unit["name"]
-        fields = {key: _Value(val, (*unit_path, key)) for key, val in unit.items() if key != "name"}
+        fields = {key: _Value(val, (*unit_path, key)) for key, val in unit.items()}
         if "parent" in fields:
             fields["parent"] = _Value(f"{instance.name}_{unit['parent']}", fields["parent"].path)
         else:

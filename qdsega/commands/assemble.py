@@ -1,0 +1,61 @@
+"""``qdsega assemble``: formation files -> self-contained URDF files, with a summary table."""
+
+from __future__ import annotations
+
+import argparse
+import time
+from pathlib import Path
+
+from qdsega.assembly import assemble, write_assembly
+from qdsega.description import load_formation
+from qdsega.errors import FormationError
+
+NAME = "assemble"
+HELP = "assemble formation YAML files into URDF files"
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("formations", nargs="+", type=Path, metavar="FORMATION.yaml")
+    target = parser.add_mutually_exclusive_group()
+    target.add_argument(
+        "-o", "--output", type=Path, metavar="OUT.urdf", help="output file (one formation only)"
+    )
+    target.add_argument(
+        "--out-dir",
+        type=Path,
+        metavar="DIR",
+        help="write DIR/<formation name>.urdf for each formation (default: the current folder)",
+    )
+
+
+def run(args: argparse.Namespace) -> int:
+    if args.output is not None and len(args.formations) > 1:
+        raise FormationError("-o/--output takes one formation; use --out-dir for several")
+    rows = []
+    for file in args.formations:
+        start = time.perf_counter()
+        formation = load_formation(file)
+        robot = assemble(formation)
+        elapsed_ms = 1000.0 * (time.perf_counter() - start)
+        out = args.output or (args.out_dir or Path.cwd()) / f"{formation.name}.urdf"
+        write_assembly(robot, out)
+        rows.append(
+            (
+                formation.name,
+                str(len(formation.units)),
+                str(len(formation.joints)),
+                str(len(formation.legs)),
+                f"{robot.mass_kg:.2f}",
+                f"{elapsed_ms:.1f}",
+                str(out),
+            )
+        )
+    _print_table(("formation", "units", "joints", "legs", "mass_kg", "assemble_ms", "urdf"), rows)
+    return 0
+
+
+def _print_table(header: tuple[str, ...], rows: list[tuple[str, ...]]) -> None:
+    widths = [max(len(r[i]) for r in [header, *rows]) for i in range(len(header))]
+    for row in [header, *rows]:
+        cells = (cell.ljust(width) for cell, width in zip(row, widths, strict=True))
+        print("  ".join(cells).rstrip())

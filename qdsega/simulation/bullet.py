@@ -1,0 +1,195 @@
+"""PyBullet simulation of an assembled formation.
+
+This is the only module that imports pybullet. Each :class:`BulletSimulation` owns its own
+``BulletClient`` in DIRECT mode (never the global client), so simulations can coexist.
+"""
+
+from __future__ import annotations
+
+import tempfile
+from collections.abc import Sequence
+from pathlib import Path
+
+import numpy as np
+import pybullet
+import pybullet_data
+from pybullet_utils.bullet_client import BulletClient
+
+from qdsega.assembly import AssembledRobot, write_assembly
+from qdsega.simulation.settings import PhysicsSettings
+
+_DROP_CLEARANCE_M = 0.002
+"""Gap between the robot's lowest point and the ground when it is placed (m)."""
+
+
+class BulletSimulation:
+    """One robot on a flat ground plane, joints under position control.
+
+    Args:
+        robot: the assembled formation.
+        settings: engine parameters.
+    """
+
+    def __init__(self, *, robot: AssembledRobot, settings: PhysicsSettings | None = None) -> None:
+        self.robot = robot
+        self.formation = robot.formation
+        self.settings = settings or PhysicsSettings()
+        self.client = BulletClient(connection_mode=pybullet.DIRECT)
+        self._folder = tempfile.TemporaryDirectory(prefix="qdsega-urdf-")
+        urdf_file = Path(self._folder.name) / f"{self.formation.name}.urdf"
+        write_assembly(robot, urdf_file)
+        self._configure_engine()
+        self.plane_id = self.client.loadURDF(
+            str(Path(pybullet_data.getDataPath()) / "plane.urdf"), useFixedBase=True
+        )
+        flags = pybullet.URDF_USE_INERTIA_FROM_FILE
+        if self.settings.self_collision:
+            flags |= pybullet.URDF_USE_SELF_COLLISION | (
+                pybullet.URDF_USE_SELF_COLLISION_EXCLUDE_PARENT
+            )
+        self.body_id = self.client.loadURDF(str(urdf_file), flags=flags)
+        self.link_index = self._link_indices()
+        joint_index = self._joint_indices()
+        self.joint_names = tuple(j.name for j in self.formation.joints)
+        self.joint_ids = np.array([joint_index[name] for name in self.joint_names], dtype=int)
+        self._efforts = [j.spec.effort_nm for j in self.formation.joints]
+        self._speeds = [j.spec.velocity_rad_s for j in self.formation.joints]
+        self._apply_friction()
+
+    # -- set-up ------------------------------------------------------------------------------
+
+    def _configure_engine(self) -> None:
+        c, s = self.client, self.settings
+        c.setGravity(0.0, 0.0, -s.gravity_m_s2)
+        c.setPhysicsEngineParameter(
+            fixedTimeStep=s.time_step_s, numSolverIterations=s.solver_iterations
+        )
+
+    def _link_indices(self) -> dict[str, int]:
+        root_name = self.client.getBodyInfo(self.body_id)[0].decode()
+        indices = {root_name: -1}
+        for j in range(self.client.getNumJoints(self.body_id)):
+            indices[self.client.getJointInfo(self.body_id, j)[12].decode()] = j
+        return indices
+
+    def _joint_indices(self) -> dict[str, int]:
+        return {
+            self.client.getJointInfo(self.body_id, j)[1].decode(): j
+            for j in range(self.client.getNumJoints(self.body_id))
+        }
+
+    def _apply_friction(self) -> None:
+        self.client.changeDynamics(self.plane_id, -1, lateralFriction=self.settings.ground_friction)
+        for unit in self.formation.units:
+            self.client.changeDynamics(
+                self.body_id,
+                self.link_index[unit.name],
+                lateralFriction=unit.friction.lateral,
+                anisotropicFriction=list(unit.friction.anisotropic),
+            )
+
+    # -- state ---------------------------------------------------------------------------------
+
+    def reset(
+        self,
+        joint_positions_rad: Sequence[float] | np.ndarray,
+        *,
+        xy_m: tuple[float, float] = (0.0, 0.0),
+        yaw_rad: float = 0.0,
+    ) -> None:
+        """Place the robot just above the ground at rest with the given joint angles.
+
+        Args:
+            joint_positions_rad: one angle per actuated joint (rad), shape (J,).
+            xy_m: root position on the ground (m).
+            yaw_rad: root heading (rad).
+        """
+        positions = np.asarray(joint_positions_rad, dtype=float)
+        if positions.shape != self.joint_ids.shape:
+            raise ValueError(f"expected {len(self.joint_ids)} joint angles, got {positions.shape}")
+        c = self.client
+        orientation = c.getQuaternionFromEuler((0.0, 0.0, yaw_rad))
+        c.resetBasePositionAndOrientation(self.body_id, (xy_m[0], xy_m[1], 1.0), orientation)
+        c.resetBaseVelocity(self.body_id, (0.0, 0.0, 0.0), (0.0, 0.0, 0.0))
+        for joint_id, angle in zip(self.joint_ids, positions, strict=True):
+            c.resetJointState(self.body_id, int(joint_id), float(angle), 0.0)
+        lowest = min(c.getAABB(self.body_id, index)[0][2] for index in self.link_index.values())
+        c.resetBasePositionAndOrientation(
+            self.body_id, (xy_m[0], xy_m[1], 1.0 - lowest + _DROP_CLEARANCE_M), orientation
+        )
+        self.command(positions)
+
+    def command(self, joint_targets_rad: Sequence[float] | np.ndarray) -> None:
+        """Drive every actuated joint toward its target (rad), shape (J,), at most at its
+        speed limit and with at most its torque limit."""
+        targets = np.asarray(joint_targets_rad, dtype=float)
+        if targets.shape != self.joint_ids.shape:
+            raise ValueError(f"expected {len(self.joint_ids)} joint targets, got {targets.shape}")
+        for joint_id, target, effort, speed in zip(
+            self.joint_ids, targets, self._efforts, self._speeds, strict=True
+        ):
+            self.client.setJointMotorControl2(
+                self.body_id,
+                int(joint_id),
+                pybullet.POSITION_CONTROL,
+                targetPosition=float(target),
+                force=effort,
+                maxVelocity=speed,
+                positionGain=self.settings.position_gain,
+            )
+
+    def step(self, steps: int = 1) -> None:
+        """Advance the physics by ``steps`` time steps."""
+        for _ in range(steps):
+            self.client.stepSimulation()
+
+    def joint_positions(self) -> np.ndarray:
+        """Actuated joint angles (rad), shape (J,)."""
+        states = self.client.getJointStates(self.body_id, self.joint_ids.tolist())
+        return np.array([s[0] for s in states], dtype=float)
+
+    def base_pose(self) -> tuple[np.ndarray, np.ndarray]:
+        """Root link position (m), shape (3,), and orientation quaternion (x, y, z, w)."""
+        position, orientation = self.client.getBasePositionAndOrientation(self.body_id)
+        return np.array(position), np.array(orientation)
+
+    def link_positions(self) -> np.ndarray:
+        """World position of every unit's frame origin, in formation order (m), shape (U, 3)."""
+        rows = []
+        for unit in self.formation.units:
+            index = self.link_index[unit.name]
+            if index == -1:
+                rows.append(self.client.getBasePositionAndOrientation(self.body_id)[0])
+            else:
+                rows.append(self.client.getLinkState(self.body_id, index)[4])
+        return np.array(rows, dtype=float)
+
+    def link_orientations(self) -> np.ndarray:
+        """World orientation quaternion (x, y, z, w) of every unit, formation order, (U, 4)."""
+        rows = []
+        for unit in self.formation.units:
+            index = self.link_index[unit.name]
+            if index == -1:
+                rows.append(self.client.getBasePositionAndOrientation(self.body_id)[1])
+            else:
+                rows.append(self.client.getLinkState(self.body_id, index)[5])
+        return np.array(rows, dtype=float)
+
+    def ground_contacts(self) -> set[str]:
+        """Names of the units that touch the ground now."""
+        names = {index: name for name, index in self.link_index.items()}
+        points = self.client.getContactPoints(bodyA=self.body_id, bodyB=self.plane_id)
+        return {names[p[3]] for p in points}
+
+    def close(self) -> None:
+        """Disconnect from the physics server and delete the temporary URDF."""
+        if self.client is not None:
+            self.client.disconnect()
+            self.client = None  # type: ignore[assignment]
+        self._folder.cleanup()
+
+    def __enter__(self) -> BulletSimulation:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()

@@ -1,0 +1,39 @@
+"""Shared fixtures: a scratch project folder, the CLI in a subprocess."""
+
+from __future__ import annotations
+
+import shutil
+import textwrap
+from collections.abc import Callable
+from pathlib import Path
+
+import pytest
+
+from qdsega import UNITS_DIR
+
+
+@pytest.fixture
+def project(tmp_path: Path) -> Path:
+    """A scratch project folder holding a copy of the shipped units/ and an assemblies/."""
+    shutil.copytree(UNITS_DIR, tmp_path / "units")
+    (tmp_path / "assemblies").mkdir()
+    return tmp_path
+
+
+@pytest.fixture
+def write_formation(project: Path) -> Callable[[str, str], Path]:
+    """Write ``text`` (dedented) as ``assemblies/<name>.yaml`` using the project's units."""
+
+    def write(text: str, name: str = "robot") -> Path:
+        file = project / "assemblies" / f"{name}.yaml"
+        file.write_text(textwrap.dedent(text), encoding="utf-8")
+        return file
+
+    return write
+
+
+@pytest.fixture
+def cli() -> Callable[..., object]:
+    from helpers import run_cli
+
+    return run_cli
