@@ -6,8 +6,11 @@ This is the only module that imports pybullet. Each :class:`BulletSimulation` ow
 
 from __future__ import annotations
 
+import contextlib
+import os
+import sys
 import tempfile
-from collections.abc import Sequence
+from collections.abc import Iterator, Sequence
 from pathlib import Path
 
 import numpy as np
@@ -34,7 +37,8 @@ class BulletSimulation:
         self.robot = robot
         self.formation = robot.formation
         self.settings = settings or PhysicsSettings()
-        self.client = BulletClient(connection_mode=pybullet.DIRECT)
+        with _native_stdout_silenced():  # the engine prints its banner to the C-level stdout
+            self.client = BulletClient(connection_mode=pybullet.DIRECT)
         self._folder = tempfile.TemporaryDirectory(prefix="qdsega-urdf-")
         urdf_file = Path(self._folder.name) / f"{self.formation.name}.urdf"
         write_assembly(robot, urdf_file)
@@ -47,7 +51,8 @@ class BulletSimulation:
             flags |= pybullet.URDF_USE_SELF_COLLISION | (
                 pybullet.URDF_USE_SELF_COLLISION_EXCLUDE_PARENT
             )
-        self.body_id = self.client.loadURDF(str(urdf_file), flags=flags)
+        with _native_stdout_silenced():
+            self.body_id = self.client.loadURDF(str(urdf_file), flags=flags)
         self.link_index = self._link_indices()
         joint_index = self._joint_indices()
         self.joint_names = tuple(j.name for j in self.formation.joints)
@@ -145,6 +150,8 @@ class BulletSimulation:
 
     def joint_positions(self) -> np.ndarray:
         """Actuated joint angles (rad), shape (J,)."""
+        if len(self.joint_ids) == 0:
+            return np.zeros(0)
         states = self.client.getJointStates(self.body_id, self.joint_ids.tolist())
         return np.array([s[0] for s in states], dtype=float)
 
@@ -193,3 +200,18 @@ class BulletSimulation:
 
     def __exit__(self, *exc: object) -> None:
         self.close()
+
+
+@contextlib.contextmanager
+def _native_stdout_silenced() -> Iterator[None]:
+    """Send file descriptor 1 to /dev/null for the duration (pybullet's C code prints there)."""
+    sys.stdout.flush()
+    saved = os.dup(1)
+    devnull = os.open(os.devnull, os.O_WRONLY)
+    try:
+        os.dup2(devnull, 1)
+        yield
+    finally:
+        os.dup2(saved, 1)
+        os.close(saved)
+        os.close(devnull)
