@@ -36,7 +36,9 @@ def main() -> None:
             times.append(1000 * (time.perf_counter() - start))
         with BulletSimulation(robot=robot, settings=settings) as sim:
             rest = np.array(formation.posture_rad(formation.rest_levels()))
-            other = np.array([j.levels_rad[min(1, len(j.levels_rad) - 1)] for j in formation.joints])
+            other = np.array(
+                [j.levels_rad[min(1, len(j.levels_rad) - 1)] for j in formation.joints]
+            )
             sim.reset(rest)
             steps = round(args.seconds / settings.time_step_s)
             half_period = round(0.5 / settings.time_step_s)

@@ -37,7 +37,9 @@ def test_two_shapes_share_the_mass_by_volume(tmp_path):
 
 
 def test_cylinder_inertia_is_close_to_the_closed_form(tmp_path):
-    link = _link('<collision><geometry><cylinder radius="0.02" length="0.1"/></geometry></collision>')
+    link = _link(
+        '<collision><geometry><cylinder radius="0.02" length="0.1"/></geometry></collision>'
+    )
     props = link_mass_properties(link, 0.3, folder=tmp_path)
     r, h = 0.02, 0.1
     assert props.inertia_kg_m2[2, 2] == pytest.approx(0.3 * r * r / 2, rel=0.02)

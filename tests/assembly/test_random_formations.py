@@ -30,8 +30,12 @@ def formations(draw: st.DrawFn) -> dict:
             break
         connector = "back" if chain else draw(st.sampled_from(free[parent]))
         free[parent].remove(connector)
-        unit = {"name": f"n{i}", "unit": draw(st.sampled_from(["servo", "hub"])),
-                "parent": parent, "connector": connector}
+        unit = {
+            "name": f"n{i}",
+            "unit": draw(st.sampled_from(["servo", "hub"])),
+            "parent": parent,
+            "connector": connector,
+        }
         if unit["unit"] == "servo":
             unit["axis"] = draw(st.sampled_from(["yaw", "pitch", "roll", [1, 1, 0]]))
             degrees = draw(st.lists(st.integers(-90, 90), min_size=1, max_size=5, unique=True))

@@ -46,13 +46,17 @@ def test_each_check_fails_on_a_crafted_urdf(snake, old, new, message):
 def test_a_cycle_is_found(snake):
     formation, urdf = snake
     # u1 becomes a child of u5: every link has a parent, so there is no root at all.
-    cyclic = urdf.replace("</robot>", '<joint name="loop" type="fixed"><parent link="u5" />'
-                          '<child link="u1" /></joint></robot>')
+    cyclic = urdf.replace(
+        "</robot>",
+        '<joint name="loop" type="fixed"><parent link="u5" /><child link="u1" /></joint></robot>',
+    )
     with pytest.raises(FormationError, match="exactly one root link"):
         check_urdf(cyclic, formation)
     # A detached loop beside a valid tree: u4 -> u5 -> u4.
-    detached = urdf.replace('<parent link="u3" />\n    <child link="u4" />',
-                            '<parent link="u5" />\n    <child link="u4" />')
+    detached = urdf.replace(
+        '<parent link="u3" />\n    <child link="u4" />',
+        '<parent link="u5" />\n    <child link="u4" />',
+    )
     with pytest.raises(FormationError, match="cycle through link"):
         check_urdf(detached, formation)
 
