@@ -124,12 +124,14 @@ class Leg:
         side: ``left`` or ``right`` of the robot's heading.
         swing_joint: URDF name of the swing joint (moves the leg forward/back).
         lift_joint: URDF name of the lift joint (puts the leg down/up).
+        units: names of every unit of the leg (the template instance's units).
     """
 
     name: str
     side: Side
     swing_joint: str
     lift_joint: str
+    units: tuple[str, ...] = ()
 
 
 @dataclass(frozen=True)
@@ -191,6 +193,12 @@ class Formation:
         if len(levels) != len(self.joints):
             raise ValueError(f"{self.name} has {len(self.joints)} joints, got {len(levels)} levels")
         return tuple(j.levels_rad[k] for j, k in zip(self.joints, levels, strict=True))
+
+    @property
+    def trunk_units(self) -> tuple[PlacedUnit, ...]:
+        """Units that belong to no leg: a legged robot's trunk, or every unit of a snake."""
+        leg_units = {name for leg in self.legs for name in leg.units}
+        return tuple(u for u in self.units if u.name not in leg_units)
 
     def legs_on(self, side: Side) -> tuple[Leg, ...]:
         return tuple(leg for leg in self.legs if leg.side == side)
@@ -610,5 +618,6 @@ def _resolve_legs(
                     f"a leg's {role} unit needs a joint with exactly 2 levels{instance.note}",
                 )
             joints.append(unit.joint_name)
-        legs.append(Leg(instance.name, side, joints[0], joints[1]))  # type: ignore[arg-type]
+        leg_units = tuple(f"{instance.name}_{unit['name']}" for _, unit in template.units)
+        legs.append(Leg(instance.name, side, joints[0], joints[1], leg_units))  # type: ignore[arg-type]
     return legs

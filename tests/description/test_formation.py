@@ -120,3 +120,11 @@ def test_error_names_file_line_and_key(write_formation):
     line = file.read_text().splitlines().index("    levels_deg: [0, 95]") + 1
     expected = f"{file}:{line}: units[1].levels_deg[1]: level 95 deg is outside the joint limits"
     assert str(info.value).startswith(expected)
+
+
+def test_trunk_is_everything_but_the_legs():
+    legged = load_formation("assemblies/legged12.yaml")
+    assert [u.name for u in legged.trunk_units] == [f"body{i}" for i in range(1, 7)]
+    assert legged.legs[0].units == ("L1_swing", "L1_lift")
+    snake = load_formation("assemblies/snake5.yaml")
+    assert snake.trunk_units == snake.units
