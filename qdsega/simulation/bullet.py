@@ -54,6 +54,7 @@ class BulletSimulation:
         with _native_stdout_silenced():
             self.body_id = self.client.loadURDF(str(urdf_file), flags=flags)
         self.link_index = self._link_indices()
+        self._unit_link_indices = [self.link_index[u.name] for u in self.formation.units]
         joint_index = self._joint_indices()
         self.joint_names = tuple(j.name for j in self.formation.joints)
         self.joint_ids = np.array([joint_index[name] for name in self.joint_names], dtype=int)
@@ -106,7 +107,7 @@ class BulletSimulation:
 
         Args:
             joint_positions_rad: one angle per actuated joint (rad), shape (J,).
-            xy_m: root position on the ground (m).
+            xy_m: root unit's centre of mass on the ground (m).
             yaw_rad: root heading (rad).
         """
         positions = np.asarray(joint_positions_rad, dtype=float)
@@ -124,14 +125,19 @@ class BulletSimulation:
         )
         self.command(positions)
 
-    def command(self, joint_targets_rad: Sequence[float] | np.ndarray) -> None:
-        """Drive every actuated joint toward its target (rad), shape (J,), at most at its
-        speed limit and with at most its torque limit."""
+    def command(
+        self, joint_targets_rad: Sequence[float] | np.ndarray, *, speed_rad_s: float | None = None
+    ) -> None:
+        """Drive every actuated joint toward its target (rad), shape (J,), with at most its
+        torque limit and at most its speed limit (or ``speed_rad_s`` where that is lower).
+
+        Far from the target the motor runs at that speed, so joints move at constant speed."""
         targets = np.asarray(joint_targets_rad, dtype=float)
         if targets.shape != self.joint_ids.shape:
             raise ValueError(f"expected {len(self.joint_ids)} joint targets, got {targets.shape}")
+        speeds = self._speeds if speed_rad_s is None else np.minimum(self._speeds, speed_rad_s)
         for joint_id, target, effort, speed in zip(
-            self.joint_ids, targets, self._efforts, self._speeds, strict=True
+            self.joint_ids, targets, self._efforts, speeds, strict=True
         ):
             self.client.setJointMotorControl2(
                 self.body_id,
@@ -139,7 +145,7 @@ class BulletSimulation:
                 pybullet.POSITION_CONTROL,
                 targetPosition=float(target),
                 force=effort,
-                maxVelocity=speed,
+                maxVelocity=float(speed),
                 positionGain=self.settings.position_gain,
             )
 
@@ -156,31 +162,32 @@ class BulletSimulation:
         return np.array([s[0] for s in states], dtype=float)
 
     def base_pose(self) -> tuple[np.ndarray, np.ndarray]:
-        """Root link position (m), shape (3,), and orientation quaternion (x, y, z, w)."""
+        """Root unit's centre of mass (m), shape (3,), and orientation quaternion (x, y, z, w)."""
         position, orientation = self.client.getBasePositionAndOrientation(self.body_id)
         return np.array(position), np.array(orientation)
 
-    def link_positions(self) -> np.ndarray:
-        """World position of every unit's frame origin, in formation order (m), shape (U, 3)."""
-        rows = []
-        for unit in self.formation.units:
-            index = self.link_index[unit.name]
-            if index == -1:
-                rows.append(self.client.getBasePositionAndOrientation(self.body_id)[0])
-            else:
-                rows.append(self.client.getLinkState(self.body_id, index)[4])
-        return np.array(rows, dtype=float)
+    def unit_states(self) -> tuple[np.ndarray, np.ndarray]:
+        """Centre of mass (m), shape (U, 3), and orientation quaternion (x, y, z, w), shape
+        (U, 4), of every unit in formation order, in the world frame."""
+        # PyBullet's base frame is the root unit's inertial frame: its position is the COM.
+        base_com, base_orientation = self.client.getBasePositionAndOrientation(self.body_id)
+        indices = [i for i in self._unit_link_indices if i >= 0]
+        states = self.client.getLinkStates(self.body_id, indices) if indices else []
+        by_index = {i: (state[0], state[1]) for i, state in zip(indices, states, strict=True)}
+        by_index[-1] = (base_com, base_orientation)
+        rows = [by_index[i] for i in self._unit_link_indices]
+        return (
+            np.array([r[0] for r in rows], dtype=float),
+            np.array([r[1] for r in rows], dtype=float),
+        )
 
-    def link_orientations(self) -> np.ndarray:
-        """World orientation quaternion (x, y, z, w) of every unit, formation order, (U, 4)."""
-        rows = []
-        for unit in self.formation.units:
-            index = self.link_index[unit.name]
-            if index == -1:
-                rows.append(self.client.getBasePositionAndOrientation(self.body_id)[1])
-            else:
-                rows.append(self.client.getLinkState(self.body_id, index)[5])
-        return np.array(rows, dtype=float)
+    def save_state(self) -> int:
+        """Snapshot the whole physics state in memory; returns its id for restore_state."""
+        return self.client.saveState()
+
+    def restore_state(self, state_id: int) -> None:
+        """Return to a snapshot taken with save_state (positions, velocities, contacts)."""
+        self.client.restoreState(stateId=state_id)
 
     def ground_contacts(self) -> set[str]:
         """Names of the units that touch the ground now."""

@@ -61,5 +61,5 @@ def test_random_formations_assemble_and_load_in_pybullet(data):
         assert sim.client.getNumJoints(sim.body_id) == len(formation.units) - 1
         sim.reset(np.zeros(len(formation.joints)))
         sim.step(24)
-        assert np.all(np.isfinite(sim.link_positions()))
+        assert np.all(np.isfinite(sim.unit_states()[0]))
         assert np.all(np.isfinite(sim.joint_positions()))

@@ -46,7 +46,7 @@ def test_legged12_legs_follow_the_leg_convention():
         assert len(swing) == len(lift) == 2
         # Left legs trail along -y of the swing unit; mirrored levels keep [forward, back].
         assert swing == tuple(
-            math.radians(d) for d in ((-20, 20) if leg.side == "left" else (20, -20))
+            math.radians(d) for d in ((-15, 15) if leg.side == "left" else (15, -15))
         )
         assert lift == (math.radians(-35), math.radians(5))
 

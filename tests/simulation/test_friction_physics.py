@@ -17,7 +17,7 @@ def _serpentine_displacement(formation: Formation, seconds: float = 4.0) -> np.n
         joints = len(formation.joints)
         sim.reset(np.zeros(joints))
         sim.step(30)
-        start = sim.link_positions().mean(axis=0)
+        start = sim.unit_states()[0].mean(axis=0)
         dt = sim.settings.time_step_s
         for k in range(round(seconds / dt)):
             phase = 2 * math.pi * k * dt
@@ -25,7 +25,7 @@ def _serpentine_displacement(formation: Formation, seconds: float = 4.0) -> np.n
                 [math.radians(20) * math.sin(phase - i * math.pi / 2) for i in range(joints)]
             )
             sim.step()
-        return sim.link_positions().mean(axis=0) - start
+        return sim.unit_states()[0].mean(axis=0) - start
 
 
 def test_snake_moves_forward_with_anisotropic_friction_only():

@@ -27,7 +27,7 @@ def test_formation_loads_and_rests_for_two_seconds(file):
         steps = round(2.0 / sim.settings.time_step_s)
         sim.step(steps)
         end, orientation = sim.base_pose()
-        positions = sim.link_positions()
+        positions = sim.unit_states()[0]
         assert np.all(np.isfinite(positions)) and np.all(np.isfinite(orientation))
         assert np.linalg.norm(end - start) < 0.01
         assert np.allclose(sim.joint_positions(), rest, atol=0.02)
