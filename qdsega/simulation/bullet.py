@@ -189,6 +189,10 @@ class BulletSimulation:
         """Return to a snapshot taken with save_state (positions, velocities, contacts)."""
         self.client.restoreState(stateId=state_id)
 
+    def remove_state(self, state_id: int) -> None:
+        """Free a snapshot taken with save_state."""
+        self.client.removeState(state_id)
+
     def ground_contacts(self) -> set[str]:
         """Names of the units that touch the ground now."""
         names = {index: name for name, index in self.link_index.items()}
