@@ -1,0 +1,170 @@
+"""Every hyperparameter of QDSEGA, in one typed configuration, and the paper's presets.
+
+Values the paper gives (section 4) are marked "paper"; the others are choices it leaves open,
+each explained in the field's documentation and in ``qdsega/agent/README.md``.
+"""
+
+from __future__ import annotations
+
+import itertools
+from dataclasses import dataclass, field, replace
+from typing import Literal
+
+CrossoverKind = Literal["uniform", "one-point"]
+
+
+@dataclass(frozen=True)
+class LearningConfig:
+    """Learning dynamics: Q-learning (eq. 1) with Boltzmann roulette selection (eq. 18).
+
+    Attributes:
+        trials: trials per generation (paper: 10000 legged, 1000 snake).
+        trial_steps: postures commanded per trial unless the robot falls first (open; 20).
+        alpha: learning rate of eq. (1) (paper: 0.5).
+        gamma: discount rate of eq. (1) (paper: 0.9).
+        temperature_scale: the 150.0 of eq. (18) (paper).
+        temperature_rate: the 0.002 of eq. (18), per trial (paper).
+        temperature_offset: the +1 in the exponent of eq. (18) (paper).
+        reward_scale: the 100 of eq. (17), per metre of distance gained (paper).
+        penalty: reward when the lower agent fails (open; -100, the reward of a metre lost).
+            The failed step is terminal: eq. (1) with no future term.
+        exterior_bin_edges_deg: exterior states, by the angle from the heading to the light,
+            counter-clockwise. Paper: "four states from -45 to 45 deg each 30 deg", read as
+            edges -45, -15, 15, 45 deg: three bins ahead and one for "outside +-45 deg"
+            (:mod:`qdsega.agent.exterior`).
+        carry_q: start each generation's Q-table from the previous one's values where the
+            interior posture and the action posture both persist, zeros elsewhere; False
+            starts every generation from zeros (open; True: what a generation learnt about
+            the actions it hands on is kept, so a good gait is not lost to an unlucky
+            exploration).
+    """
+
+    trials: int = 10000
+    trial_steps: int = 20
+    alpha: float = 0.5
+    gamma: float = 0.9
+    temperature_scale: float = 150.0
+    temperature_rate: float = 0.002
+    temperature_offset: float = 1.0
+    reward_scale: float = 100.0
+    penalty: float = -100.0
+    exterior_bin_edges_deg: tuple[float, ...] = (-45.0, -15.0, 15.0, 45.0)
+    carry_q: bool = True
+
+    def __post_init__(self) -> None:
+        if self.trials < 1 or self.trial_steps < 1:
+            raise ValueError("trials and trial_steps must be at least 1")
+        if not 0.0 < self.alpha <= 1.0:
+            raise ValueError(f"alpha must be in (0, 1], got {self.alpha}")
+        if not 0.0 <= self.gamma < 1.0:
+            raise ValueError(f"gamma must be in [0, 1), got {self.gamma}")
+        if not self.temperature_scale > 0 or not self.temperature_rate >= 0:
+            raise ValueError("temperature_scale must be positive, temperature_rate >= 0")
+        edges = self.exterior_bin_edges_deg
+        if len(edges) < 2 or any(b <= a for a, b in itertools.pairwise(edges)):
+            raise ValueError(f"exterior_bin_edges_deg: need 2+ increasing edges, got {edges}")
+
+
+@dataclass(frozen=True)
+class FitnessConfig:
+    """Fitness of an action from the learnt Q-table: eqs. (2)-(6).
+
+    Eq. (4)'s weights are ``w_1 = w_first`` and ``w_Ns = w_last``, all others 0: the paper's
+    two named terms, the action's best regulated value ("special actions") and its mean over
+    all states ("general actions"); the number of states changes every generation, so only
+    these two ends have a fixed meaning. With one state both add to ``w_1``.
+
+    Attributes:
+        p: eqs. (2)-(3): regulated values of rewards map into [p, 1], of penalties into
+            [0, p) (open; 0.1: an action that earns nothing anywhere, or is never tried,
+            scores p, so actions that earn rewards stand well above it).
+        w_first: w_1 of eq. (4) (open; 0.0). The best regulated value is 1 for every action
+            that is best in any one state, and most actions are, in some rarely visited state:
+            in trials this term did not separate useful from useless actions.
+        w_last: w_Ns of eq. (4) (open; 1.0): the mean over all states.
+        k_f: weight of the frequency of use, eq. (6) (open; 30.0). The gait in use keeps
+            enough copies in the population to survive roulette selection; with small
+            ``k_f`` its few copies were often lost and learnt gaits came and went.
+    """
+
+    p: float = 0.1
+    w_first: float = 0.0
+    w_last: float = 1.0
+    k_f: float = 30.0
+
+    def __post_init__(self) -> None:
+        if not 0.0 <= self.p <= 1.0:
+            raise ValueError(f"p must be in [0, 1], got {self.p}")
+        if min(self.w_first, self.w_last, self.k_f) < 0:
+            raise ValueError("w_first, w_last and k_f must not be negative")
+
+
+@dataclass(frozen=True)
+class GeneticConfig:
+    """Structural dynamics: the genetic algorithm over postures (section 4.1.3).
+
+    Selection is fitness-proportional roulette, with replacement; parents are paired in draw
+    order and each pair is crossed with probability ``crossover_rate`` (an odd one out is
+    copied). Mutation visits every character of every child and, with probability
+    ``mutation_rate``, sets it to a different level drawn uniformly. No elitism.
+
+    Attributes:
+        population: individuals (paper: 200 legged, 30 snake).
+        generations: learning phases; the population is reproduced after every one but the
+            last (paper: 200 legged, 30 snake).
+        crossover: ``uniform`` (each character swapped with probability 1/2) or ``one-point``
+            (paper: uniform legged, one-point snake).
+        crossover_rate: probability that a pair is crossed (paper: 0.2 legged, 0.5 snake).
+        mutation_rate: per-character mutation probability (paper: 0.001 legged, 0.02 snake).
+    """
+
+    population: int = 200
+    generations: int = 200
+    crossover: CrossoverKind = "uniform"
+    crossover_rate: float = 0.2
+    mutation_rate: float = 0.001
+
+    def __post_init__(self) -> None:
+        if self.population < 2 or self.generations < 1:
+            raise ValueError("population must be at least 2 and generations at least 1")
+        if self.crossover not in ("uniform", "one-point"):
+            raise ValueError(f"crossover must be uniform or one-point, got {self.crossover!r}")
+        for name in ("crossover_rate", "mutation_rate"):
+            if not 0.0 <= getattr(self, name) <= 1.0:
+                raise ValueError(f"{name} must be in [0, 1], got {getattr(self, name)}")
+
+
+@dataclass(frozen=True)
+class QDSEGAConfig:
+    """The whole learner: learning dynamics, fitness and structural dynamics."""
+
+    learning: LearningConfig = field(default_factory=LearningConfig)
+    fitness: FitnessConfig = field(default_factory=FitnessConfig)
+    genetic: GeneticConfig = field(default_factory=GeneticConfig)
+
+
+PRESETS: dict[str, QDSEGAConfig] = {
+    "paper-legged": QDSEGAConfig(),
+    "paper-snake": QDSEGAConfig(
+        learning=LearningConfig(trials=1000),
+        genetic=GeneticConfig(
+            population=30,
+            generations=30,
+            crossover="one-point",
+            crossover_rate=0.5,
+            mutation_rate=0.02,
+        ),
+    ),
+}
+"""Section 4's settings: 4.1.3 (multi-legged robot) and 4.2.3 (snake-like robot)."""
+
+
+def with_budget(
+    config: QDSEGAConfig, *, generations: int | None = None, trials: int | None = None
+) -> QDSEGAConfig:
+    """``config`` with fewer (or more) generations or trials per generation."""
+    if generations is not None:
+        config = replace(config, genetic=replace(config.genetic, generations=generations))
+    if trials is not None:
+        config = replace(config, learning=replace(config.learning, trials=trials))
+    return config

@@ -1,0 +1,80 @@
+"""Structural dynamics: roulette selection, crossover and mutation of posture genes.
+
+A population is an int64 array (N, J): one character per actuated joint, valued in
+``0 .. levels[k] - 1``. Every draw comes from the ``np.random.Generator`` passed in.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from qdsega.agent.config import GeneticConfig
+
+
+def random_population(levels: np.ndarray, size: int, rng: np.random.Generator) -> np.ndarray:
+    """``size`` genes with every character uniform over its levels, shape (size, J)."""
+    levels = np.asarray(levels, dtype=np.int64)
+    if levels.ndim != 1 or np.any(levels < 1):
+        raise ValueError(f"levels must be a (J,) array of positive counts, got {levels}")
+    return (rng.random((size, len(levels))) * levels).astype(np.int64)
+
+
+def roulette(fitness: np.ndarray, count: int, rng: np.random.Generator) -> np.ndarray:
+    """Indices of ``count`` draws, each with probability proportional to fitness (>= 0).
+
+    All-zero fitness selects uniformly (the limit of equal fitnesses).
+    """
+    fitness = np.asarray(fitness, dtype=np.float64)
+    if np.any(fitness < 0) or not np.all(np.isfinite(fitness)):
+        raise ValueError("fitness must be finite and non-negative")
+    cumulative = np.cumsum(fitness)
+    if cumulative[-1] <= 0:
+        cumulative = np.arange(1.0, len(fitness) + 1.0)
+    pointers = rng.random(count) * cumulative[-1]
+    return np.minimum(np.searchsorted(cumulative, pointers, side="right"), len(fitness) - 1)
+
+
+def uniform_crossover(
+    a: np.ndarray, b: np.ndarray, rng: np.random.Generator
+) -> tuple[np.ndarray, np.ndarray]:
+    """Swap each character of two genes (J,) with probability 1/2."""
+    swap = rng.random(a.shape) < 0.5
+    return np.where(swap, b, a), np.where(swap, a, b)
+
+
+def one_point_crossover(
+    a: np.ndarray, b: np.ndarray, rng: np.random.Generator
+) -> tuple[np.ndarray, np.ndarray]:
+    """Exchange the tails of two genes (J,) after a cut drawn uniformly in 1 .. J-1."""
+    if len(a) < 2:
+        return a.copy(), b.copy()
+    cut = int(rng.integers(1, len(a)))
+    return np.concatenate([a[:cut], b[cut:]]), np.concatenate([b[:cut], a[cut:]])
+
+
+def mutate(
+    population: np.ndarray, levels: np.ndarray, rate: float, rng: np.random.Generator
+) -> np.ndarray:
+    """Each character, with probability ``rate``, becomes a different level (uniform)."""
+    levels = np.asarray(levels, dtype=np.int64)
+    hit = (rng.random(population.shape) < rate) & (levels > 1)
+    shift = 1 + (rng.random(population.shape) * (levels - 1)).astype(np.int64)
+    return np.where(hit, (population + shift) % levels, population)
+
+
+def reproduce(
+    population: np.ndarray,
+    fitness: np.ndarray,
+    levels: np.ndarray,
+    config: GeneticConfig,
+    rng: np.random.Generator,
+) -> np.ndarray:
+    """The next population: roulette, pairwise crossover, per-character mutation."""
+    n = len(population)
+    parents = population[roulette(fitness, n, rng)]
+    children = parents.copy()
+    cross = one_point_crossover if config.crossover == "one-point" else uniform_crossover
+    for i in range(0, n - 1, 2):
+        if rng.random() < config.crossover_rate:
+            children[i], children[i + 1] = cross(parents[i], parents[i + 1], rng)
+    return mutate(children, levels, config.mutation_rate, rng)

@@ -1,0 +1,191 @@
+"""QDSEGA's outer loop (Fig. 7): build the Q-table from the population, learn, rate, reproduce.
+
+Each generation starts from a zero Q-table: a new population is a new set of actions and
+states, and eq. (18)'s schedule restarts with it (the paper's 10000 trials per generation
+cool the temperature from 408 to below 1e-6, so each generation is a full learning run).
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from collections.abc import Iterator
+from dataclasses import dataclass
+
+import numpy as np
+
+from qdsega.agent.config import QDSEGAConfig
+from qdsega.agent.exterior import bin_edges_rad
+from qdsega.agent.fitness import fitness
+from qdsega.agent.genetic import random_population, reproduce
+from qdsega.agent.qlearning import greedy_on_table, learn_on_table
+from qdsega.agent.space import ExplorationSpace
+from qdsega.agent.world import TransitionProvider
+
+
+@dataclass(frozen=True)
+class Generation:
+    """What one generation learnt, and how its greedy policy walks.
+
+    Attributes:
+        index: generation number, from 1.
+        space: the population's actions and interior states.
+        q: the learnt Q-table, shape (n_interior * n_exterior, A).
+        uses: times each action was chosen, shape (A,).
+        fitness: eq. (6) per action, shape (A,).
+        distances: distance toward the light covered by each trial (m), shape (trials,).
+        fell: whether each trial ended in a fall, shape (trials,).
+        steps: commands issued while learning.
+        greedy_poses: the greedy trial's poses (x m, y m, theta rad), shape (steps + 1, 3).
+        greedy_actions: its action per step, -1 after a fall, shape (steps,).
+        greedy_fell: whether the greedy trial fell.
+        greedy_distance: distance toward the light it covered (m).
+        wall_s: wall time of the generation (s).
+    """
+
+    index: int
+    space: ExplorationSpace
+    q: np.ndarray
+    uses: np.ndarray
+    fitness: np.ndarray
+    distances: np.ndarray
+    fell: np.ndarray
+    steps: int
+    greedy_poses: np.ndarray
+    greedy_actions: np.ndarray
+    greedy_fell: bool
+    greedy_distance: float
+    wall_s: float
+
+    def greedy_postures(self) -> np.ndarray:
+        """The greedy trial's postures, initial one first, until it ends, shape (k + 1, J)."""
+        taken = self.greedy_actions[self.greedy_actions >= 0]
+        if self.greedy_fell:
+            taken = taken[:-1]
+        return np.vstack([self.space.postures[:1], self.space.actions[taken]])
+
+
+class QDSEGA:
+    """The learner on a posture-transition world.
+
+    Args:
+        config: every hyperparameter.
+        levels: level count of each gene character (actuated joint), shape (J,).
+        world: the transition table provider.
+        light_xy: light position (m); trials start at the origin heading +x.
+        rng: the only source of randomness.
+    """
+
+    def __init__(
+        self,
+        *,
+        config: QDSEGAConfig,
+        levels: np.ndarray,
+        world: TransitionProvider,
+        light_xy: tuple[float, float],
+        rng: np.random.Generator,
+    ) -> None:
+        levels = np.asarray(levels, dtype=np.int64)
+        if levels.shape != (world.n_joints,):
+            raise ValueError(f"levels must be ({world.n_joints},), got {levels.shape}")
+        self.config = config
+        self.levels = levels
+        self.world = world
+        self.light = np.asarray(light_xy, dtype=np.float64)
+        self.rng = rng
+        self.edges = bin_edges_rad(config.learning.exterior_bin_edges_deg)
+        self.population = random_population(levels, config.genetic.population, rng)
+        self._previous: tuple[ExplorationSpace, np.ndarray] | None = None
+
+    @property
+    def n_exterior(self) -> int:
+        return len(self.edges)
+
+    def run(self) -> Iterator[Generation]:
+        """Yield every generation in turn; the population advances between them."""
+        generations = self.config.genetic.generations
+        for index in range(1, generations + 1):
+            generation = self.learn_generation(index)
+            yield generation
+            if index < generations:
+                individual_fitness = generation.fitness[generation.space.action_of]
+                self.population = reproduce(
+                    self.population, individual_fitness, self.levels, self.config.genetic, self.rng
+                )
+
+    def _initial_q(self, space: ExplorationSpace) -> np.ndarray:
+        """Zeros, or with ``carry_q`` the previous generation's values where the interior
+        posture and the action posture both persist (any exterior state)."""
+        n_exterior = self.n_exterior
+        q = np.zeros((space.n_interior, n_exterior, space.n_actions))
+        if self.config.learning.carry_q and self._previous is not None:
+            old_space, old_q = self._previous
+            old_q = old_q.reshape(old_space.n_interior, n_exterior, old_space.n_actions)
+            rows = _match(space.postures, old_space.postures)
+            cols = _match(space.actions, old_space.actions)
+            new_i, new_a = np.flatnonzero(rows >= 0), np.flatnonzero(cols >= 0)
+            q[np.ix_(new_i, np.arange(n_exterior), new_a)] = old_q[
+                np.ix_(rows[new_i], np.arange(n_exterior), cols[new_a])
+            ]
+        return q.reshape(space.n_interior * n_exterior, space.n_actions)
+
+    def learn_generation(self, index: int) -> Generation:
+        """Q-learning over the current population's space, then fitness of its actions."""
+        start = time.perf_counter()
+        learning, fit = self.config.learning, self.config.fitness
+        space = ExplorationSpace.from_population(self.population, self.world.start_posture())
+        table = self.world.transitions(space.postures, space.actions)
+        dx, dy, dtheta = (
+            np.ascontiguousarray(a, dtype=np.float64) for a in (table.dx, table.dy, table.dtheta)
+        )
+        failed = np.ascontiguousarray(table.failed, dtype=np.bool_)
+        q = self._initial_q(space)
+        uses = np.zeros(space.n_actions, dtype=np.int64)
+        distances = np.zeros(learning.trials)
+        fell = np.zeros(learning.trials, dtype=np.bool_)
+        schedule = np.array(
+            [learning.temperature_scale, learning.temperature_rate, learning.temperature_offset]
+        )
+        common = (dx, dy, dtheta, failed, space.next_interior, self.light, self.edges)
+        steps = learn_on_table(
+            q,
+            *common,
+            learning.trials,
+            learning.trial_steps,
+            learning.alpha,
+            learning.gamma,
+            schedule,
+            learning.reward_scale,
+            learning.penalty,
+            self.rng,
+            uses,
+            distances,
+            fell,
+        )
+        poses = np.zeros((learning.trial_steps + 1, 3))
+        actions = np.zeros(learning.trial_steps, dtype=np.int64)
+        greedy_fell = greedy_on_table(q, *common, learning.trial_steps, poses, actions)
+        self._previous = (space, q)
+        lx, ly = self.light
+        greedy_distance = math.hypot(lx, ly) - math.hypot(lx - poses[-1, 0], ly - poses[-1, 1])
+        return Generation(
+            index=index,
+            space=space,
+            q=q,
+            uses=uses,
+            fitness=fitness(q, uses, p=fit.p, w_first=fit.w_first, w_last=fit.w_last, k_f=fit.k_f),
+            distances=distances,
+            fell=fell,
+            steps=int(steps),
+            greedy_poses=poses,
+            greedy_actions=actions,
+            greedy_fell=bool(greedy_fell),
+            greedy_distance=greedy_distance,
+            wall_s=time.perf_counter() - start,
+        )
+
+
+def _match(postures: np.ndarray, old: np.ndarray) -> np.ndarray:
+    """Row of ``old`` (m, J) equal to each row of ``postures`` (n, J), or -1; shape (n,)."""
+    index = {row.tobytes(): k for k, row in enumerate(old)}
+    return np.array([index.get(row.tobytes(), -1) for row in postures], dtype=np.int64)

@@ -1,0 +1,166 @@
+"""Learning dynamics on a posture-transition table, compiled: eqs. (1), (17), (18).
+
+The Q-table has one row per state ``s = interior * n_exterior + exterior`` and one column per
+action. A trial starts at the origin, heading +x, in interior state 0 (the initial posture),
+and runs ``trial_steps`` commands or until the lower agent fails. Each step:
+
+1. choose ``a`` by Boltzmann roulette at the trial's temperature, eq. (18), the trial counter
+   restarting at 0 each generation (the schedule then explores afresh over a new table);
+2. if the move fails: ``Q(s, a) <- (1 - alpha) Q(s, a) + alpha * penalty`` and the trial ends
+   (a fall has no next state);
+3. else move the robot by the table's body-frame displacement, reward eq. (17)
+   ``100 (d(t-1) - d(t))``, and update eq. (1) with ``max Q(s', .)``; the step that ends a
+   trial by its length bootstraps like any other (a time limit is not a terminal state).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from qdsega.agent.boltzmann import boltzmann_select, greedy, temperature
+from qdsega.agent.exterior import exterior_state
+
+
+@njit(cache=True)
+def q_update(q: float, reward: float, best_next: float, alpha: float, gamma: float) -> float:
+    """Eq. (1): ``(1 - alpha) Q + alpha (r + gamma max_a' Q(s', a'))``."""
+    return (1.0 - alpha) * q + alpha * (reward + gamma * best_next)
+
+
+@njit(cache=True)
+def _row_max(row: np.ndarray) -> float:
+    top = row[0]
+    for value in row[1:]:
+        if value > top:
+            top = value
+    return top
+
+
+@njit(cache=True)
+def learn_on_table(
+    q: np.ndarray,
+    dx: np.ndarray,
+    dy: np.ndarray,
+    dtheta: np.ndarray,
+    failed: np.ndarray,
+    next_interior: np.ndarray,
+    light: np.ndarray,
+    edges: np.ndarray,
+    trials: int,
+    trial_steps: int,
+    alpha: float,
+    gamma: float,
+    temperature_params: np.ndarray,
+    reward_scale: float,
+    penalty: float,
+    rng: np.random.Generator,
+    uses: np.ndarray,
+    distances: np.ndarray,
+    fell: np.ndarray,
+) -> int:
+    """One generation of Q-learning (module docstring). Updates ``q`` in place.
+
+    Args:
+        q: Q-table, shape (n_interior * n_exterior, A), updated in place.
+        dx, dy, dtheta, failed: the transition table, shape (n_interior, A) (m, m, rad, bool).
+        next_interior: interior state each action leads to, shape (A,).
+        light: light position (x, y) (m).
+        edges: exterior bin edges (rad), shape (n_exterior,).
+        trials, trial_steps: trials of this generation and commands per trial.
+        alpha, gamma: eq. (1).
+        temperature_params: (scale, rate, offset) of eq. (18).
+        reward_scale, penalty: eq. (17) factor and the failure reward.
+        rng: the only source of randomness (one uniform per step).
+        uses: per-action use counts, shape (A,), incremented (eq. 5's N_u).
+        distances: per-trial distance covered toward the light (m), shape (trials,), written.
+        fell: per-trial failure flag, shape (trials,), written.
+
+    Returns:
+        The number of steps (commands) taken.
+    """
+    n_exterior = edges.shape[0]
+    weights = np.empty(q.shape[1])
+    light_x, light_y = light[0], light[1]
+    d_start = math.hypot(light_x, light_y)
+    steps = 0
+    for trial in range(trials):
+        temp = temperature(
+            trial, temperature_params[0], temperature_params[1], temperature_params[2]
+        )
+        x, y, theta = 0.0, 0.0, 0.0
+        d = d_start
+        interior = 0
+        exterior = exterior_state(x, y, theta, light_x, light_y, edges)
+        fell[trial] = False
+        for _ in range(trial_steps):
+            s = interior * n_exterior + exterior
+            a = boltzmann_select(q[s], temp, rng.random(), weights)
+            uses[a] += 1
+            steps += 1
+            if failed[interior, a]:
+                q[s, a] = (1.0 - alpha) * q[s, a] + alpha * penalty
+                fell[trial] = True
+                break
+            c, sn = math.cos(theta), math.sin(theta)
+            x += dx[interior, a] * c - dy[interior, a] * sn
+            y += dx[interior, a] * sn + dy[interior, a] * c
+            theta += dtheta[interior, a]
+            d_new = math.hypot(light_x - x, light_y - y)
+            interior = next_interior[a]
+            exterior = exterior_state(x, y, theta, light_x, light_y, edges)
+            best_next = _row_max(q[interior * n_exterior + exterior])
+            q[s, a] = q_update(q[s, a], reward_scale * (d - d_new), best_next, alpha, gamma)
+            d = d_new
+        distances[trial] = d_start - d
+    return steps
+
+
+@njit(cache=True)
+def greedy_on_table(
+    q: np.ndarray,
+    dx: np.ndarray,
+    dy: np.ndarray,
+    dtheta: np.ndarray,
+    failed: np.ndarray,
+    next_interior: np.ndarray,
+    light: np.ndarray,
+    edges: np.ndarray,
+    trial_steps: int,
+    poses: np.ndarray,
+    actions: np.ndarray,
+) -> bool:
+    """One trial of the greedy policy (ties: first action); no learning.
+
+    Args:
+        poses: written with the pose (x m, y m, theta rad) before each step and after the last,
+            shape (trial_steps + 1, 3); rows after a fall repeat the last pose.
+        actions: written with the action of each step, -1 after a fall, shape (trial_steps,).
+        (other arguments as :func:`learn_on_table`)
+
+    Returns:
+        Whether the trial ended in a fall.
+    """
+    n_exterior = edges.shape[0]
+    x, y, theta = 0.0, 0.0, 0.0
+    interior = 0
+    fall = False
+    poses[0, 0], poses[0, 1], poses[0, 2] = x, y, theta
+    for step in range(trial_steps):
+        actions[step] = -1
+        if not fall:
+            exterior = exterior_state(x, y, theta, light[0], light[1], edges)
+            a = greedy(q[interior * n_exterior + exterior])
+            actions[step] = a
+            if failed[interior, a]:
+                fall = True
+            else:
+                c, sn = math.cos(theta), math.sin(theta)
+                x += dx[interior, a] * c - dy[interior, a] * sn
+                y += dx[interior, a] * sn + dy[interior, a] * c
+                theta += dtheta[interior, a]
+                interior = next_interior[a]
+        poses[step + 1, 0], poses[step + 1, 1], poses[step + 1, 2] = x, y, theta
+    return fall

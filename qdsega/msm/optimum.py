@@ -1,0 +1,154 @@
+"""The exact optimum of the MSM task: the farthest one trial can get toward the light.
+
+Method: dynamic programming over leg-state *counts*. Under eqs. (7)-(9) the legs of one side
+are interchangeable, so a side's state is how many of its legs are in each of the 4 states
+(84 states for 6 legs), and one step is a 4x4 matrix ``n_ij`` of how many legs go from ``i`` to
+``j`` (its rows sum to the current counts, its columns to the next ones; the next counts must
+keep ``min_down`` legs down). The force of a step depends on nothing else, so the best total
+force a side can produce in ``steps`` steps is a backward recursion over counts. Walking
+straight, progress is ``c_u`` times the total force of both sides; the two sides are
+independent, so the straight optimum is ``c_u (best_left + best_right)``.
+
+When both sides have as many legs, running the same count sequence on both sides keeps the
+moment at zero, so that optimum is reached by an actual posture sequence (the witness, checked
+by integrating eqs. (14)-(16)). That it cannot be beaten by turning is checked by exhaustive
+search over posture sequences, turns included, on bodies of 1 and 2 legs a side
+(``tests/msm/test_msm_optimum.py``); it holds because a stroke that moves the body backward
+cancels one forward stroke at any heading, and turning costs strokes.
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+from dataclasses import dataclass
+from functools import cache
+
+import numpy as np
+
+from qdsega.agent.world import integrate_pose
+from qdsega.msm.model import MinimalSimulationModel, side_force
+
+Counts = tuple[int, int, int, int]
+
+
+@dataclass(frozen=True)
+class Optimum:
+    """The straight-walk optimum and a posture sequence that reaches it.
+
+    Attributes:
+        distance_m: the largest distance toward the light one trial can cover (m).
+        exact: True when the witness reaches the count-DP bound, walking straight at a light
+            straight ahead; otherwise ``distance_m`` is what the witness covers, not a proven
+            optimum.
+        bound_m: ``c_u`` times the best total force of both sides (m).
+        postures: the witness, start posture first, shape (steps + 1, J).
+    """
+
+    distance_m: float
+    exact: bool
+    bound_m: float
+    postures: np.ndarray
+
+
+@cache
+def _compositions(total: int) -> tuple[tuple[int, int, int, int], ...]:
+    """Every way to split ``total`` legs over the 4 target states."""
+    return tuple(
+        c  # type: ignore[misc]
+        for c in itertools.product(range(total + 1), repeat=4)
+        if sum(c) == total
+    )
+
+
+def _side_moves(counts: Counts, u: float, v: float, min_down: int) -> dict[Counts, tuple]:
+    """Best step to each next-counts from ``counts``: next -> (force, 4x4 transition counts)."""
+    best: dict[Counts, tuple] = {}
+    for rows in itertools.product(*(_compositions(c) for c in counts)):
+        nxt: Counts = tuple(sum(row[j] for row in rows) for j in range(4))  # type: ignore[assignment]
+        if nxt[0] + nxt[1] < min_down:
+            continue
+        force = float(side_force(u * (rows[0][1] - rows[1][0]), v * (rows[0][0] + rows[1][1])))
+        if nxt not in best or force > best[nxt][0]:
+            best[nxt] = (force, np.array(rows))
+    return best
+
+
+def _side_optimum(
+    start: Counts, steps: int, u: float, v: float, min_down: int
+) -> tuple[float, list[np.ndarray]]:
+    """Best total force of one side over ``steps`` steps, and the transition matrices."""
+    n = sum(start)
+    all_counts: list[Counts] = list(_compositions(n))
+    moves = {c: _side_moves(c, u, v, min_down) for c in all_counts}
+    value = {c: 0.0 for c in all_counts}
+    policy: list[dict[Counts, Counts]] = []
+    for _ in range(steps):
+        new_value, choice = {}, {}
+        for c in all_counts:
+            nxt, (force, _) = max(
+                moves[c].items(), key=lambda item: (item[1][0] + value[item[0]], item[0])
+            )
+            new_value[c] = force + value[nxt]
+            choice[c] = nxt
+        value = new_value
+        policy.insert(0, choice)
+    matrices, c = [], start
+    for choice in policy:
+        nxt = choice[c]
+        matrices.append(moves[c][nxt][1])
+        c = nxt
+    return value[start], matrices
+
+
+def _apply(states: np.ndarray, matrix: np.ndarray) -> np.ndarray:
+    """Move individual legs (states 1..4, shape (k,)) as a 4x4 count matrix says."""
+    nxt = states.copy()
+    for i in range(4):
+        legs = np.flatnonzero(states == i + 1)
+        targets = np.repeat(np.arange(1, 5), matrix[i])
+        nxt[legs] = targets
+    return nxt
+
+
+def msm_optimum(
+    model: MinimalSimulationModel, *, steps: int, light_xy: tuple[float, float]
+) -> Optimum:
+    """The exact straight-walk optimum of one trial of ``steps`` commanded postures.
+
+    Args:
+        model: the body and its MSM constants.
+        steps: postures commanded per trial.
+        light_xy: light position (m); the robot starts at the origin heading +x.
+    """
+    if steps < 1:
+        raise ValueError(f"steps must be at least 1, got {steps}")
+    p = model.params
+    right = np.asarray(model.legs.right)
+    start_states = model.legs.states(model.start_posture())
+    sides = []
+    for mask in (~right, right):
+        counts = tuple(int(np.sum(start_states[mask] == s)) for s in (1, 2, 3, 4))
+        sides.append(_side_optimum(counts, steps, p.u, p.v, p.min_down_per_side))  # type: ignore[arg-type]
+    bound = p.c_u * (sides[0][0] + sides[1][0])
+
+    # The witness: the left side's count sequence on both sides when they match, else each
+    # side its own (then the moment may turn the robot and the bound is not reached).
+    symmetric = int(right.sum()) * 2 == len(right)
+    plans = [sides[0][1], sides[0][1]] if symmetric else [sides[0][1], sides[1][1]]
+    states = start_states.copy()
+    postures = [model.start_posture()]
+    for step in range(steps):
+        for mask, plan in zip((~right, right), plans, strict=True):
+            states[mask] = _apply(states[mask], plan[step])
+        postures.append(model.legs.posture(states, base=postures[0]))
+    sequence = np.array(postures)
+    moves = model.transitions(sequence[:-1], sequence[1:])
+    pose = (0.0, 0.0, 0.0)
+    for t in range(steps):
+        pose = integrate_pose(pose, moves.dx[t, t], moves.dy[t, t], moves.dtheta[t, t])
+    lx, ly = light_xy
+    distance = math.hypot(lx, ly) - math.hypot(lx - pose[0], ly - pose[1])
+    ahead = abs(ly) < 1e-12 and lx > 0
+    exact = ahead and abs(distance - bound) <= 1e-9 * max(1.0, bound)
+    return Optimum(distance_m=distance, exact=exact, bound_m=bound, postures=sequence)

@@ -1,0 +1,1 @@
+"""Training runs: resolved configuration, the run folder, and its figures."""

@@ -1,0 +1,148 @@
+"""The resolved configuration of a training run: preset, then YAML file, then CLI flags.
+
+A YAML override file mirrors :class:`TrainingConfig`, for example::
+
+    seed: 3
+    agent:
+      learning: {trials: 2000}
+      fitness: {k_f: 10.0}
+    msm: {c_theta: 0.1}
+
+Unknown keys and values of the wrong type are errors (:class:`qdsega.errors.FormationError`).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import types
+import typing
+from dataclasses import dataclass, field, replace
+from pathlib import Path
+from typing import Any
+
+import yaml
+
+from qdsega.agent.config import PRESETS, QDSEGAConfig
+from qdsega.errors import FormationError
+from qdsega.msm import MSMParameters
+
+SIMULATORS = ("msm",)
+"""Worlds ``qdsega train`` can learn in."""
+
+
+@dataclass(frozen=True)
+class TrainingConfig:
+    """Everything a training run depends on.
+
+    Attributes:
+        preset: the preset the run started from (``paper-legged`` or ``paper-snake``).
+        seed: seed of the run's only random generator.
+        sim: the world (``msm``: the Minimal Simulation Model of section 4.1.2).
+        light_bearing_deg: put the light at this bearing (deg, counter-clockwise from the
+            initial heading), at the formation's distance; None keeps the formation's light.
+        agent: the learner's hyperparameters.
+        msm: the Minimal Simulation Model's constants.
+    """
+
+    preset: str = "paper-legged"
+    seed: int = 0
+    sim: str = "msm"
+    light_bearing_deg: float | None = None
+    agent: QDSEGAConfig = field(default_factory=QDSEGAConfig)
+    msm: MSMParameters = field(default_factory=MSMParameters)
+
+    def to_dict(self) -> dict[str, Any]:
+        """Plain types only (tuples become lists), for YAML."""
+        return _plain(dataclasses.asdict(self))
+
+
+def resolve_config(
+    *,
+    preset: str = "paper-legged",
+    file: Path | None = None,
+    overrides: dict[str, Any] | None = None,
+) -> TrainingConfig:
+    """The preset, updated by the YAML ``file``, then by ``overrides`` (same nesting).
+
+    Raises:
+        FormationError: unknown preset, unreadable file, unknown key or bad value.
+    """
+    if preset not in PRESETS:
+        raise FormationError(f"unknown preset {preset!r} (known: {', '.join(PRESETS)})")
+    config = TrainingConfig(preset=preset, agent=PRESETS[preset])
+    if file is not None:
+        try:
+            data = yaml.safe_load(Path(file).read_text(encoding="utf-8"))
+        except (OSError, yaml.YAMLError) as exc:
+            raise FormationError(f"cannot read the configuration: {exc}", file=file) from None
+        config = _merge(config, data or {}, "", file)
+    if overrides:
+        config = _merge(config, overrides, "", None)
+    if config.sim not in SIMULATORS:
+        raise FormationError(f"sim must be one of {', '.join(SIMULATORS)}, got {config.sim!r}")
+    return config
+
+
+def _merge(instance: Any, data: Any, path: str, file: Path | None) -> Any:
+    if not isinstance(data, dict):
+        raise FormationError("expected a mapping", file=file, key_path=path or None)
+    hints = typing.get_type_hints(type(instance))
+    names = {f.name for f in dataclasses.fields(instance)}
+    changes = {}
+    for key, value in data.items():
+        key_path = f"{path}.{key}" if path else str(key)
+        if key not in names:
+            known = ", ".join(sorted(names))
+            raise FormationError(f"unknown key (known: {known})", file=file, key_path=key_path)
+        current = getattr(instance, key)
+        if dataclasses.is_dataclass(current):
+            changes[key] = _merge(current, value, key_path, file)
+        else:
+            changes[key] = _convert(value, hints[key], key_path, file)
+    try:
+        return replace(instance, **changes)
+    except ValueError as exc:
+        raise FormationError(str(exc), file=file, key_path=path or None) from None
+
+
+def _convert(value: Any, hint: Any, path: str, file: Path | None) -> Any:
+    origin, args = typing.get_origin(hint), typing.get_args(hint)
+    if origin in (typing.Union, types.UnionType):
+        if value is None and type(None) in args:
+            return None
+        hint = next(a for a in args if a is not type(None))
+        origin, args = typing.get_origin(hint), typing.get_args(hint)
+    if origin is tuple:
+        if not isinstance(value, list | tuple):
+            raise FormationError("expected a list", file=file, key_path=path)
+        return tuple(_convert(v, args[0], f"{path}[{i}]", file) for i, v in enumerate(value))
+    if origin is typing.Literal:
+        if value not in args:
+            choices = ", ".join(map(str, args))
+            raise FormationError(f"expected one of {choices}", file=file, key_path=path)
+        return value
+    if hint is bool:
+        if not isinstance(value, bool):
+            raise FormationError("expected true or false", file=file, key_path=path)
+        return value
+    if hint is int:
+        if isinstance(value, bool) or not isinstance(value, int):
+            raise FormationError("expected an integer", file=file, key_path=path)
+        return value
+    if hint is float:
+        if isinstance(value, bool) or not isinstance(value, int | float):
+            raise FormationError("expected a number", file=file, key_path=path)
+        return float(value)
+    if hint is str:
+        if not isinstance(value, str):
+            raise FormationError("expected text", file=file, key_path=path)
+        return value
+    raise FormationError(f"unsupported setting type {hint}", file=file, key_path=path)
+
+
+def _plain(value: Any) -> Any:
+    if isinstance(value, dict):
+        return {k: _plain(v) for k, v in value.items()}
+    if isinstance(value, list | tuple):
+        return [_plain(v) for v in value]
+    return value
