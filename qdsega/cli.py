@@ -7,10 +7,10 @@ import sys
 from collections.abc import Sequence
 
 from qdsega import __version__
-from qdsega.commands import assemble
+from qdsega.commands import assemble, plot, train
 from qdsega.errors import FormationError
 
-COMMANDS = (assemble,)
+COMMANDS = (assemble, train, plot)
 """Each module provides ``NAME``, ``HELP``, ``add_arguments(parser)`` and ``run(args) -> int``."""
 
 
