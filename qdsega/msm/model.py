@@ -14,19 +14,22 @@ Every other leg transition (lifting, landing, swinging in the air) exerts no for
 Choices the paper leaves open (the defaults of :class:`MSMParameters`):
 
 * ``u = 1``, ``v = 0.5``: a still, planted leg drags half as hard as a stroking leg pushes.
-  With ``v < u``, pushing legs beat standing ones, yet two standing legs stall one stroke, so a
+  With ``v < u`` pushing legs beat standing ones, yet two standing legs stall one stroke, so a
   gait that leaves legs idle on the ground loses; ``u`` and ``v`` are commensurate, so headings
   stay on a lattice.
-* ``c_u = 0.25`` m per unit force: legged12's best gait covers 4 force units a step, so 1 m a
-  step; the 40-step trial's exact optimum (:mod:`qdsega.msm.optimum`) is then close to the
-  paper's "optimal movable distance is 40".
+* ``c_u = 0.02`` m per unit force: legged12's best gait makes 4 force units a step, 8 cm.
+  Eq. (17) multiplies metres by 100, so rewards are a few units a step: the scale at which
+  eq. (18)'s schedule (T = 408 at the first trial, 1 at trial 3000, 0.001 at trial 6500)
+  explores for the first third of a generation and is greedy after. With 10x larger steps,
+  rewards swamp the temperature early and learning locks onto the first gait it meets.
 * ``c_theta = 0.05`` rad per unit moment: one side striding (2 units) while the other stands
-  turns the robot 0.1 rad (5.7 deg) a step, so facing a light 60 deg to the side costs several
-  steps of a trial: turning is a skill to learn, not a free move.
-* Failure (the lower agent cannot reach the commanded posture: the robot falls) when fewer than
-  ``ceil(min_down_fraction * legs on that side)`` legs of a side are down in the commanded
-  posture; with the default 0.5, a robot that lifts half its legs on a side plus one falls,
-  and lifting all legs at once always falls.
+  turns the robot 0.1 rad (5.7 deg) a step; facing a light 60 deg to the side costs about ten
+  steps of a 20-step trial, so turning is a skill to learn, not a free move.
+* Failure (the lower agent cannot reach the commanded posture: the robot falls) when a side
+  has fewer than ``min_down_per_side`` (default 1) legs down in the commanded posture: a side
+  with every leg lifted has no support, and lifting all legs at once always falls. Stricter
+  rules (half the legs of a side) made 57 % of random postures fall and, in trials, the
+  learner did worse, not better.
 * The start posture has every leg in ``start_state`` (default 1: forward and down, ready to
   push); joints that belong to no leg start (and are ignored) at level 0.
 """

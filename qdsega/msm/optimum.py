@@ -11,10 +11,12 @@ independent, so the straight optimum is ``c_u (best_left + best_right)``.
 
 When both sides have as many legs, running the same count sequence on both sides keeps the
 moment at zero, so that optimum is reached by an actual posture sequence (the witness, checked
-by integrating eqs. (14)-(16)). That it cannot be beaten by turning is checked by exhaustive
-search over posture sequences, turns included, on bodies of 1 and 2 legs a side
-(``tests/msm/test_msm_optimum.py``); it holds because a stroke that moves the body backward
-cancels one forward stroke at any heading, and turning costs strokes.
+by integrating eqs. (14)-(16)). It is exact over every posture sequence when turning is off
+(``c_theta = 0``) or the moment stays zero; exhaustive search on bodies of 1 and 2 legs a
+side checks this (``tests/msm/test_msm_optimum.py``). With turning, that search also shows the
+one way to beat it: a stroke at one heading and a back-stroke at another gain
+``c_u (1 - cos dtheta)``, 0.025 mm a wiggle with the default constants (0.003 % of legged12's
+optimum); this second-order gain is not counted.
 """
 
 from __future__ import annotations
@@ -39,8 +41,8 @@ class Optimum:
     Attributes:
         distance_m: the largest distance toward the light one trial can cover (m).
         exact: True when the witness reaches the count-DP bound, walking straight at a light
-            straight ahead; otherwise ``distance_m`` is what the witness covers, not a proven
-            optimum.
+            straight ahead (exact up to the turning wiggle of the module docstring); otherwise
+            ``distance_m`` is what the witness covers, and ``bound_m`` only a reference.
         bound_m: ``c_u`` times the best total force of both sides (m).
         postures: the witness, start posture first, shape (steps + 1, J).
     """

@@ -1,0 +1,47 @@
+"""The outer loop: determinism from the seed, and learning on a small body."""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+import numpy as np
+
+from qdsega import ASSEMBLIES_DIR
+from qdsega.agent.config import PRESETS, with_budget
+from qdsega.agent.learner import QDSEGA
+from qdsega.description import load_formation
+from qdsega.msm import LegLayout, MinimalSimulationModel, MSMParameters, msm_optimum
+
+
+def _learner(seed: int, generations: int, trials: int) -> tuple[QDSEGA, float]:
+    formation = load_formation(ASSEMBLIES_DIR / "quadruped.yaml")
+    world = MinimalSimulationModel(legs=LegLayout.from_formation(formation), params=MSMParameters())
+    config = with_budget(PRESETS["paper-legged"], generations=generations, trials=trials)
+    config = replace(config, genetic=replace(config.genetic, population=40))
+    learner = QDSEGA(
+        config=config,
+        levels=np.full(len(formation.joints), 2),
+        world=world,
+        light_xy=formation.light.position_m,
+        rng=np.random.default_rng(seed),
+    )
+    optimum = msm_optimum(world, steps=config.learning.trial_steps, light_xy=(50.0, 0.0))
+    return learner, optimum.distance_m
+
+
+def test_same_seed_same_result():
+    runs = []
+    for _ in range(2):
+        learner, _ = _learner(7, 3, 300)
+        runs.append(list(learner.run()))
+    for a, b in zip(*runs, strict=True):
+        assert np.array_equal(a.q, b.q) and np.array_equal(a.space.actions, b.space.actions)
+        assert np.array_equal(a.fitness, b.fitness) and a.greedy_distance == b.greedy_distance
+    other, _ = _learner(8, 1, 300)
+    assert not np.array_equal(next(other.run()).q, runs[0][0].q)
+
+
+def test_quadruped_learns_most_of_the_optimum_quickly():
+    learner, optimum = _learner(0, 15, 3000)
+    best = max(g.greedy_distance for g in learner.run())
+    assert best >= 0.8 * optimum

@@ -1,0 +1,67 @@
+"""Eq. (1), the Boltzmann roulette of eq. (18), and the compiled loop on a tiny table."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from qdsega.agent.boltzmann import boltzmann_select, greedy, temperature
+from qdsega.agent.exterior import bin_edges_rad, exterior_state
+from qdsega.agent.qlearning import learn_on_table, q_update
+
+
+def test_eq1_update():
+    # (1 - 0.5) * 2 + 0.5 * (3 + 0.9 * 10) = 1 + 6 = 7
+    assert q_update(2.0, 3.0, 10.0, 0.5, 0.9) == pytest.approx(7.0)
+
+
+def test_eq18_temperature():
+    assert temperature(0, 150.0, 0.002, 1.0) == pytest.approx(150.0 * math.e)
+    assert temperature(500, 150.0, 0.002, 1.0) == pytest.approx(150.0)
+
+
+def _frequencies(q: np.ndarray, temp: float, n: int = 20000) -> np.ndarray:
+    rng = np.random.default_rng(0)
+    w = np.empty(len(q))
+    picks = [boltzmann_select(q, temp, rng.random(), w) for _ in range(n)]
+    return np.bincount(picks, minlength=len(q)) / n
+
+
+def test_boltzmann_matches_the_distribution_and_becomes_greedy():
+    q = np.array([1.0, 2.0, 0.0, 1.5])
+    for temp in (5.0, 1.0):
+        expected = np.exp(q / temp) / np.exp(q / temp).sum()
+        assert _frequencies(q, temp) == pytest.approx(expected, abs=0.015)
+    assert _frequencies(q, 1e-3)[1] == 1.0
+    assert greedy(q) == 1
+    assert greedy(np.array([3.0, 3.0])) == 0  # ties: first
+
+
+def test_exterior_bins():
+    edges = bin_edges_rad([-45, -15, 15, 45])
+    light = (10.0, 0.0)
+    cases = {0.0: 2, math.radians(30): 1, math.radians(-30): 3, math.radians(60): 0, math.pi: 0}
+    for heading, state in cases.items():
+        assert exterior_state(0.0, 0.0, heading, *light, edges) == state
+
+
+def test_compiled_loop_learns_a_two_action_chain():
+    # One interior state besides the start; action 0 moves 1 m forward, action 1 falls.
+    dx = np.array([[1.0, 0.0], [1.0, 0.0]])
+    zeros = np.zeros_like(dx)
+    failed = np.array([[False, True], [False, True]])
+    q = np.zeros((2 * 4, 2))
+    uses = np.zeros(2, dtype=np.int64)
+    distances, fell = np.zeros(300), np.zeros(300, dtype=np.bool_)
+    steps = learn_on_table(
+        q, dx, zeros, zeros, failed, np.array([1, 0]), np.array([100.0, 0.0]),
+        bin_edges_rad([-45, -15, 15, 45]), 300, 3, 0.5, 0.9,
+        np.array([150.0, 0.002, 1.0]), 100.0, -100.0, np.random.default_rng(1),
+        uses, distances, fell,
+    )  # fmt: skip
+    assert steps == uses.sum()
+    assert q[0 * 4 + 2, 1] < 0 < q[0 * 4 + 2, 0]  # start state, straight ahead
+    assert distances.max() == pytest.approx(3.0)
+    assert np.all(distances[fell] < 3.0)

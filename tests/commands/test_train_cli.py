@@ -1,0 +1,37 @@
+"""``qdsega train`` and ``qdsega plot`` end to end, with tiny budgets."""
+
+from __future__ import annotations
+
+import csv
+import json
+
+import yaml
+
+from qdsega import ASSEMBLIES_DIR
+
+
+def test_train_then_plot(cli, tmp_path):
+    run = tmp_path / "run"
+    result = cli(
+        "train", ASSEMBLIES_DIR / "hexapod.yaml", "--sim", "msm", "--preset", "paper-legged",
+        "--seed", "2", "--out", run, "--generations", "3", "--trials", "200", "--quiet",
+    )  # fmt: skip
+    assert result.returncode == 0, result.stderr
+    summary = json.loads((run / "summary.json").read_text())
+    for key in ("greedy_distance", "optimum", "generations", "env_steps", "wall_s", "seed"):
+        assert key in summary
+    assert summary["generations"] == 3 and summary["seed"] == 2 and summary["optimum_exact"]
+    rows = list(csv.DictReader((run / "metrics.csv").open()))
+    assert [r["generation"] for r in rows] == ["1", "2", "3"]
+    config = yaml.safe_load((run / "config.yaml").read_text())
+    assert config["agent"]["genetic"]["generations"] == 3 and config["seed"] == 2
+    plotted = cli("plot", run)
+    assert plotted.returncode == 0, plotted.stderr
+    assert (run / "fig11_trajectories.png").stat().st_size > 0
+    assert (run / "fig12_gait.png").stat().st_size > 0
+
+
+def test_msm_on_a_snake_is_a_one_line_error(cli, tmp_path):
+    result = cli("train", ASSEMBLIES_DIR / "snake5.yaml", "--out", tmp_path / "r", "--quiet")
+    assert result.returncode == 2
+    assert "legged formation" in result.stderr and len(result.stderr.strip().splitlines()) == 1
