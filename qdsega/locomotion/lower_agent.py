@@ -1,0 +1,134 @@
+"""The lower agent (paper section 3.2.2): drives every joint to the commanded posture.
+
+It acts like the paper's stepping motors (section 4.2.2): every joint moves toward its level at
+one constant angular speed, and each upper-agent step lasts a fixed time. It fails, which ends
+the trial with a penalty (section 3.2.3), when
+
+* a joint is not within ``tolerance_rad`` of its level at the end of the step (blocked by the
+  ground, another unit or its torque limit);
+* the body flips: a trunk unit's up axis tilts more than ``max_tilt_rad`` from vertical;
+* the trunk of a legged formation touches the ground (its legs no longer carry it);
+* the physics state becomes non-finite.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from qdsega.description import Formation
+from qdsega.locomotion.body_pose import BodyPose, BodyPoseEstimator
+from qdsega.simulation import BulletSimulation
+
+
+@dataclass(frozen=True, kw_only=True)
+class LowerAgentConfig:
+    """How postures are executed and when execution fails.
+
+    Attributes:
+        step_duration_s: duration of one upper-agent step (s); the joints must arrive within it.
+        joint_speed_rad_s: the constant angular speed of every joint (rad/s).
+        tolerance_rad: a joint has reached its level when this close at the step's end (rad).
+        max_tilt_rad: a trunk unit tilted more than this from upright means the body flipped.
+        check_interval_steps: physics steps between failure checks during a step (-).
+    """
+
+    step_duration_s: float = 0.5
+    joint_speed_rad_s: float = 1.5
+    tolerance_rad: float = math.radians(4.0)
+    max_tilt_rad: float = math.radians(60.0)
+    check_interval_steps: int = 6
+
+    def __post_init__(self) -> None:
+        for name in ("step_duration_s", "joint_speed_rad_s", "tolerance_rad", "max_tilt_rad"):
+            if not getattr(self, name) > 0:
+                raise ValueError(f"{name} must be positive, got {getattr(self, name)}")
+        if self.check_interval_steps < 1:
+            raise ValueError("check_interval_steps must be at least 1")
+
+    def check_formation(self, formation: Formation) -> None:
+        """Raise ValueError if a joint cannot cross its widest level span within one step."""
+        for joint in formation.joints:
+            span = max(joint.levels_rad) - min(joint.levels_rad)
+            needed_s = span / self.joint_speed_rad_s
+            if needed_s > self.step_duration_s:
+                raise ValueError(
+                    f"{formation.name}: joint {joint.name} needs {needed_s:.2f} s to cross its "
+                    f"levels, more than step_duration_s={self.step_duration_s}"
+                )
+
+
+@dataclass(frozen=True)
+class Outcome:
+    """Result of one commanded posture.
+
+    Attributes:
+        pose: body pose at the end of the step (or when it failed).
+        failure: why the lower agent failed, or None when it succeeded.
+    """
+
+    pose: BodyPose
+    failure: str | None
+
+    @property
+    def failed(self) -> bool:
+        return self.failure is not None
+
+
+class LowerAgent:
+    """Executes postures on one simulation.
+
+    Args:
+        sim: the simulation of ``formation``.
+        config: timing and failure rules.
+    """
+
+    def __init__(self, *, sim: BulletSimulation, config: LowerAgentConfig) -> None:
+        self.sim = sim
+        self.formation = sim.formation
+        self.config = config
+        config.check_formation(self.formation)
+        self.estimator = BodyPoseEstimator(formation=self.formation)
+        self.physics_steps = max(1, round(config.step_duration_s / sim.settings.time_step_s))
+        leg_units = {name for leg in self.formation.legs for name in leg.units}
+        self._trunk_names = {u.name for u in self.formation.trunk_units} if leg_units else set()
+
+    def pose(self) -> BodyPose:
+        """The body's pose now."""
+        return self.estimator.pose(*self.sim.unit_states())
+
+    def execute(self, levels: np.ndarray) -> Outcome:
+        """Move to the posture ``levels`` (J,) of level indices within one step."""
+        targets = np.array(self.formation.posture_rad(levels))
+        self.sim.command(targets, speed_rad_s=self.config.joint_speed_rad_s)
+        interval = self.config.check_interval_steps
+        done = 0
+        while done < self.physics_steps:
+            chunk = min(interval, self.physics_steps - done)
+            self.sim.step(chunk)
+            done += chunk
+            pose, failure = self._check()
+            if failure is not None:
+                return Outcome(pose, failure)
+        errors = np.abs(self.sim.joint_positions() - targets)
+        if np.any(errors > self.config.tolerance_rad):
+            worst = int(np.argmax(errors))
+            name = self.formation.joints[worst].name
+            return Outcome(
+                pose, f"joint {name} missed its level by {math.degrees(errors[worst]):.1f} deg"
+            )
+        return Outcome(pose, None)
+
+    def _check(self) -> tuple[BodyPose, str | None]:
+        positions, quaternions = self.sim.unit_states()
+        if not (np.all(np.isfinite(positions)) and np.all(np.isfinite(quaternions))):
+            nan = BodyPose(math.nan, math.nan, math.nan, math.nan)
+            return nan, "physics state is not finite"
+        pose = self.estimator.pose(positions, quaternions)
+        if pose.max_tilt_rad > self.config.max_tilt_rad:
+            return pose, f"body flipped (tilt {math.degrees(pose.max_tilt_rad):.0f} deg)"
+        if self._trunk_names and self._trunk_names & self.sim.ground_contacts():
+            return pose, "trunk touched the ground"
+        return pose, None

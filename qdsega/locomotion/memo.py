@@ -1,0 +1,202 @@
+"""Memo mode: PyBullet posture-to-posture transitions, each measured once and kept.
+
+The paper's lower agent makes every upper-agent step a move from one posture to another. A
+transition ``i -> j`` is measured once: the robot is settled on the ground in posture ``i``
+(teleported into it, then left to rest for ``SETTLE_S``), commanded to ``j`` through the lower
+agent, and the move of its body (:mod:`qdsega.locomotion.body_pose`) is expressed in the body
+frame at the start: forward ``dx`` (m), leftward ``dy`` (m), turn ``dtheta`` (rad), and whether
+the lower agent failed. Starting from a settled posture, not from wherever the robot happened to
+be, is the approximation that makes the table possible; ``qdsega evaluate`` measures its cost
+by replaying policies with exact physics.
+
+Missing transitions are filled on demand, grouped by start posture (one settle, a snapshot,
+then every target from that snapshot) and spread over worker processes. Each worker builds the
+world once; every measurement restores a snapshot, so results do not depend on which worker
+made them or in which order.
+"""
+
+from __future__ import annotations
+
+import math
+import multiprocessing
+import os
+from concurrent.futures import ProcessPoolExecutor
+from pathlib import Path
+
+import numpy as np
+
+from qdsega.agent.world import Transitions
+from qdsega.assembly import assemble
+from qdsega.description import Formation
+from qdsega.locomotion.lower_agent import LowerAgent, LowerAgentConfig
+from qdsega.simulation import BulletSimulation, PhysicsSettings
+
+SETTLE_S = 0.5
+"""Rest time in the start posture of a transition before the command (s)."""
+
+_FIELDS = 4  # dx, dy, dtheta, failed
+
+
+class MeasuredTransitions:
+    """A :class:`qdsega.agent.world.TransitionProvider` backed by PyBullet measurements.
+
+    Args:
+        formation: the robot.
+        lower_agent: how postures are executed and when that fails.
+        physics: engine settings.
+        start_levels: the posture every trial starts from (J,); default the rest posture.
+        workers: processes measuring in parallel (1 measures in this process).
+    """
+
+    def __init__(
+        self,
+        *,
+        formation: Formation,
+        lower_agent: LowerAgentConfig,
+        physics: PhysicsSettings | None = None,
+        start_levels: tuple[int, ...] | None = None,
+        workers: int = 2,
+    ) -> None:
+        if workers < 1:
+            raise ValueError(f"workers must be at least 1, got {workers}")
+        lower_agent.check_formation(formation)
+        self.formation = formation
+        self.lower_agent = lower_agent
+        self.physics = physics or PhysicsSettings()
+        self.workers = workers
+        self._start = np.array(start_levels or formation.rest_levels(), dtype=np.int64)
+        self._table: dict[bytes, np.ndarray] = {}
+        self._pool: ProcessPoolExecutor | None = None
+        self.measured = 0
+        """Transitions measured by this object (not loaded from a file)."""
+
+    @property
+    def n_joints(self) -> int:
+        return len(self.formation.joints)
+
+    def start_posture(self) -> np.ndarray:
+        return self._start.copy()
+
+    def __len__(self) -> int:
+        return len(self._table)
+
+    def transitions(self, from_postures: np.ndarray, to_postures: np.ndarray) -> Transitions:
+        """Outcomes (n, m) of commanding each of ``to_postures`` (m, J) from each of (n, J)."""
+        sources = np.asarray(from_postures, dtype=np.int64)
+        targets = np.asarray(to_postures, dtype=np.int64)
+        self._fill(sources, targets)
+        values = np.array(
+            [[self._table[_key(i, j)] for j in targets] for i in sources], dtype=np.float64
+        ).reshape(len(sources), len(targets), _FIELDS)
+        return Transitions(
+            dx=values[..., 0],
+            dy=values[..., 1],
+            dtheta=values[..., 2],
+            failed=values[..., 3] > 0.5,
+        )
+
+    def save(self, file: Path) -> None:
+        """Write every known transition to ``file`` (npz), atomically."""
+        keys = sorted(self._table)
+        pairs = np.array([np.frombuffer(k, dtype=np.int64) for k in keys]).reshape(
+            len(keys), 2 * self.n_joints
+        )
+        values = np.array([self._table[k] for k in keys]).reshape(len(keys), _FIELDS)
+        partial = file.with_name(file.name + ".partial.npz")
+        np.savez_compressed(partial, pairs=pairs, values=values)
+        os.replace(partial, file)
+
+    def load(self, file: Path) -> None:
+        """Add the transitions stored in ``file`` (written by :meth:`save`)."""
+        with np.load(file) as data:
+            pairs, values = data["pairs"], data["values"]
+        if pairs.shape[1:] != (2 * self.n_joints,) or values.shape[1:] != (_FIELDS,):
+            raise ValueError(f"{file} does not hold transitions of {self.formation.name}")
+        for pair, value in zip(pairs, values, strict=True):
+            self._table[pair.astype(np.int64).tobytes()] = value
+
+    def close(self) -> None:
+        if self._pool is not None:
+            self._pool.shutdown()
+            self._pool = None
+
+    def _fill(self, sources: np.ndarray, targets: np.ndarray) -> None:
+        jobs: list[tuple[np.ndarray, np.ndarray]] = []
+        for source in np.unique(sources, axis=0):
+            missing = [t for t in np.unique(targets, axis=0) if _key(source, t) not in self._table]
+            if missing:
+                jobs.append((source, np.array(missing)))
+        if not jobs:
+            return
+        args = (self.formation, self.lower_agent, self.physics)
+        if self.workers == 1:
+            _init_worker(*args)
+            results = [_measure_from(*job) for job in jobs]
+        else:
+            if self._pool is None:
+                context = multiprocessing.get_context("spawn")
+                self._pool = ProcessPoolExecutor(
+                    self.workers, mp_context=context, initializer=_init_worker, initargs=args
+                )
+            results = list(self._pool.map(_measure_from, *zip(*jobs, strict=True)))
+        for (source, missing), rows in zip(jobs, results, strict=True):
+            for target, row in zip(missing, rows, strict=True):
+                self._table[_key(source, target)] = row
+                self.measured += 1
+
+
+def _key(source: np.ndarray, target: np.ndarray) -> bytes:
+    return np.concatenate([source, target]).astype(np.int64).tobytes()
+
+
+class _Bench:
+    """A worker's own simulation, lower agent and a snapshot right after loading."""
+
+    def __init__(
+        self, formation: Formation, lower_agent: LowerAgentConfig, physics: PhysicsSettings
+    ) -> None:
+        self.formation = formation
+        self.sim = BulletSimulation(robot=assemble(formation), settings=physics)
+        self.agent = LowerAgent(sim=self.sim, config=lower_agent)
+        self.pristine = self.sim.save_state()
+        self.settle_steps = max(1, round(SETTLE_S / physics.time_step_s))
+
+
+_bench: _Bench | None = None
+
+
+def _init_worker(
+    formation: Formation, lower_agent: LowerAgentConfig, physics: PhysicsSettings
+) -> None:
+    global _bench
+    if _bench is None or _bench.formation is not formation:
+        _bench = _Bench(formation, lower_agent, physics)
+
+
+def _measure_from(source: np.ndarray, targets: np.ndarray) -> np.ndarray:
+    """Rows (dx m, dy m, dtheta rad, failed 0/1) for ``source -> target``, shape (m, 4)."""
+    bench = _bench
+    assert bench is not None, "worker not initialised"
+    sim, agent = bench.sim, bench.agent
+    sim.restore_state(bench.pristine)
+    sim.reset(bench.formation.posture_rad(source))
+    sim.step(bench.settle_steps)
+    settled = sim.save_state()
+    start = agent.pose()
+    rows = np.zeros((len(targets), _FIELDS))
+    for k, target in enumerate(targets):
+        sim.restore_state(settled)
+        outcome = agent.execute(target)
+        if outcome.failed:
+            rows[k] = (0.0, 0.0, 0.0, 1.0)
+            continue
+        end = outcome.pose
+        c, s = math.cos(start.heading_rad), math.sin(start.heading_rad)
+        ex, ey = end.x_m - start.x_m, end.y_m - start.y_m
+        turn = math.atan2(
+            math.sin(end.heading_rad - start.heading_rad),
+            math.cos(end.heading_rad - start.heading_rad),
+        )
+        rows[k] = (c * ex + s * ey, -s * ex + c * ey, turn, 0.0)
+    sim.remove_state(settled)
+    return rows

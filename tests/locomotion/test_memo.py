@@ -1,0 +1,67 @@
+import numpy as np
+import pytest
+
+from qdsega.description import load_formation
+from qdsega.locomotion.lower_agent import LowerAgentConfig
+from qdsega.locomotion.memo import MeasuredTransitions
+
+
+@pytest.fixture(scope="module")
+def snake5():
+    return load_formation("assemblies/snake5.yaml")
+
+
+def _postures(count: int) -> np.ndarray:
+    return np.random.default_rng(0).integers(0, 9, size=(count, 4))
+
+
+def test_measurements_do_not_depend_on_order_or_workers(snake5):
+    postures = _postures(3)
+    serial = MeasuredTransitions(formation=snake5, lower_agent=LowerAgentConfig(), workers=1)
+    forward = serial.transitions(postures, postures[::-1])
+    reverse = MeasuredTransitions(formation=snake5, lower_agent=LowerAgentConfig(), workers=1)
+    backward = reverse.transitions(postures[::-1], postures)
+    assert np.array_equal(forward.dx, backward.dx[::-1, ::-1])
+    assert np.array_equal(forward.dtheta, backward.dtheta[::-1, ::-1])
+    parallel = MeasuredTransitions(formation=snake5, lower_agent=LowerAgentConfig(), workers=2)
+    try:
+        assert np.array_equal(parallel.transitions(postures, postures[::-1]).dx, forward.dx)
+    finally:
+        parallel.close()
+
+
+def test_each_transition_is_measured_once_and_survives_a_save(snake5, tmp_path):
+    postures = _postures(3)
+    memo = MeasuredTransitions(formation=snake5, lower_agent=LowerAgentConfig(), workers=1)
+    first = memo.transitions(postures, postures)
+    assert memo.measured == 9
+    memo.transitions(postures[:2], postures)
+    assert memo.measured == 9
+    memo.save(tmp_path / "memo.npz")
+    again = MeasuredTransitions(formation=snake5, lower_agent=LowerAgentConfig(), workers=1)
+    again.load(tmp_path / "memo.npz")
+    assert len(again) == 9
+    second = again.transitions(postures, postures)
+    assert again.measured == 0
+    for field in ("dx", "dy", "dtheta", "failed"):
+        assert np.array_equal(getattr(first, field), getattr(second, field))
+
+
+def test_staying_put_goes_nowhere_and_a_wave_step_moves(snake5):
+    memo = MeasuredTransitions(formation=snake5, lower_agent=LowerAgentConfig(), workers=1)
+    still = np.array([[4, 4, 4, 4]])
+    assert abs(memo.transitions(still, still).dx[0, 0]) < 1e-3
+    bent = memo.transitions(np.array([[0, 4, 8, 4]]), np.array([[4, 8, 4, 0]]))
+    assert not bent.failed[0, 0]
+    assert np.hypot(bent.dx[0, 0], bent.dy[0, 0]) > 1e-3
+
+
+def test_failures_are_recorded_for_a_legged_body():
+    quadruped = load_formation("assemblies/quadruped.yaml")
+    memo = MeasuredTransitions(formation=quadruped, lower_agent=LowerAgentConfig(), workers=1)
+    start = np.array([quadruped.rest_levels()])
+    all_up = start.copy()
+    for leg in quadruped.legs:
+        all_up[0, quadruped.joint_index(leg.lift_joint)] = 1
+    table = memo.transitions(start, np.vstack([start, all_up]))
+    assert list(table.failed[0]) == [False, True]
