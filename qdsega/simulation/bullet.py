@@ -7,6 +7,8 @@ This is the only module that imports pybullet. Each :class:`BulletSimulation` ow
 from __future__ import annotations
 
 import contextlib
+import importlib.util
+import math
 import os
 import sys
 import tempfile
@@ -31,9 +33,17 @@ class BulletSimulation:
     Args:
         robot: the assembled formation.
         settings: engine parameters.
+        egl: load pybullet's EGL plugin for off-screen OpenGL camera images (it must be loaded
+            before any body); see :attr:`egl_enabled` for whether it loaded.
     """
 
-    def __init__(self, *, robot: AssembledRobot, settings: PhysicsSettings | None = None) -> None:
+    def __init__(
+        self,
+        *,
+        robot: AssembledRobot,
+        settings: PhysicsSettings | None = None,
+        egl: bool = False,
+    ) -> None:
         self.robot = robot
         self.formation = robot.formation
         self.settings = settings or PhysicsSettings()
@@ -42,6 +52,7 @@ class BulletSimulation:
         self._folder = tempfile.TemporaryDirectory(prefix="qdsega-urdf-")
         urdf_file = Path(self._folder.name) / f"{self.formation.name}.urdf"
         write_assembly(robot, urdf_file)
+        self.egl_enabled = egl and self._load_egl()
         self._configure_engine()
         self.plane_id = self.client.loadURDF(
             str(Path(pybullet_data.getDataPath()) / "plane.urdf"), useFixedBase=True
@@ -198,6 +209,57 @@ class BulletSimulation:
         names = {index: name for name, index in self.link_index.items()}
         points = self.client.getContactPoints(bodyA=self.body_id, bodyB=self.plane_id)
         return {names[p[3]] for p in points}
+
+    # -- pictures ------------------------------------------------------------------------------
+
+    def _load_egl(self) -> bool:
+        """Load the EGL renderer plugin; False (TinyRenderer then) when it does not load."""
+        spec = importlib.util.find_spec("eglRenderer")
+        if spec is None or spec.origin is None:
+            return False
+        with _native_stdout_silenced():
+            return self.client.loadPlugin(spec.origin, "_eglRendererPlugin") >= 0
+
+    def add_light(self, xy_m: tuple[float, float], *, radius_m: float) -> None:
+        """Show the light source as a glowing sphere resting on the ground at ``xy_m`` (m)."""
+        shape = self.client.createVisualShape(
+            pybullet.GEOM_SPHERE, radius=radius_m, rgbaColor=(1.0, 0.85, 0.1, 1.0)
+        )
+        self.client.createMultiBody(
+            baseMass=0.0,
+            baseVisualShapeIndex=shape,
+            basePosition=(xy_m[0], xy_m[1], radius_m),
+        )
+
+    def camera_image(
+        self,
+        *,
+        width: int,
+        height: int,
+        target_m: Sequence[float],
+        view_yaw_rad: float,
+        distance_m: float,
+        pitch_rad: float,
+        fov_deg: float,
+    ) -> np.ndarray:
+        """RGB image (height, width, 3), uint8, of a camera ``distance_m`` behind ``target_m``
+        looking along ``view_yaw_rad`` (world, counter-clockwise from +x) and down by
+        ``pitch_rad``."""
+        direction = (
+            math.cos(pitch_rad) * math.cos(view_yaw_rad),
+            math.cos(pitch_rad) * math.sin(view_yaw_rad),
+            -math.sin(pitch_rad),
+        )
+        eye = [t - distance_m * d for t, d in zip(target_m, direction, strict=True)]
+        view = self.client.computeViewMatrix(eye, list(target_m), [0.0, 0.0, 1.0])
+        projection = self.client.computeProjectionMatrixFOV(fov_deg, width / height, 0.02, 200.0)
+        renderer = (
+            pybullet.ER_BULLET_HARDWARE_OPENGL if self.egl_enabled else pybullet.ER_TINY_RENDERER
+        )
+        _, _, rgba, _, _ = self.client.getCameraImage(
+            width, height, view, projection, renderer=renderer
+        )
+        return np.asarray(rgba, dtype=np.uint8).reshape(height, width, 4)[:, :, :3].copy()
 
     def close(self) -> None:
         """Disconnect from the physics server and delete the temporary URDF."""
