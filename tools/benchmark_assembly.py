@@ -17,7 +17,8 @@ import numpy as np
 from qdsega import ASSEMBLIES_DIR
 from qdsega.assembly import assemble
 from qdsega.description import load_formation
-from qdsega.simulation import BulletSimulation, PhysicsSettings
+from qdsega.simulation import PhysicsSettings
+from qdsega.simulation.bullet import BulletSimulation
 
 
 def main() -> None:

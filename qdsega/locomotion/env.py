@@ -24,7 +24,8 @@ from qdsega.assembly import assemble
 from qdsega.description import Formation
 from qdsega.locomotion.body_pose import BodyPose
 from qdsega.locomotion.lower_agent import LowerAgent, LowerAgentConfig
-from qdsega.simulation import BulletSimulation, PhysicsSettings
+from qdsega.simulation import PhysicsSettings
+from qdsega.simulation.bullet import BulletSimulation
 
 SETTLE_S = 0.5
 """Time the start posture is left to settle on the ground before a snapshot is taken (s)."""
@@ -38,13 +39,15 @@ class TaskConfig:
         trial_steps: upper-agent steps per trial (episode) (-).
         reward_scale: the 100 of eq. (17), reward per metre gained (1/m).
         penalty: reward of a step whose posture the lower agent failed to reach (-).
-        exterior_bin_centers_deg: centres of the bins of the angle to the light (deg).
+        exterior_bin_edges_deg: edges of the bins of the angle to the light (deg); as in
+            :mod:`qdsega.agent.exterior`, state 0 is "outside", so there are as many states
+            as edges.
     """
 
     trial_steps: int = 20
     reward_scale: float = 100.0
     penalty: float = -100.0
-    exterior_bin_centers_deg: tuple[float, ...] = (-45.0, -15.0, 15.0, 45.0)
+    exterior_bin_edges_deg: tuple[float, ...] = (-45.0, -15.0, 15.0, 45.0)
     lower_agent: LowerAgentConfig = field(default_factory=LowerAgentConfig)
 
 
@@ -75,10 +78,10 @@ class LocomotionEnv(gym.Env[np.ndarray, np.ndarray]):
             raise ValueError(f"{formation.name} has no actuated joint to command")
         self.start_levels = np.array(start_levels or formation.rest_levels(), dtype=np.int64)
         counts = [len(j.levels_rad) for j in formation.joints]
-        n_bins = len(self.task.exterior_bin_centers_deg)
+        n_bins = len(self.task.exterior_bin_edges_deg)
         self.action_space = gym.spaces.MultiDiscrete(counts)
         self.observation_space = gym.spaces.MultiDiscrete([*counts, n_bins])
-        self._edges = bin_edges_rad(self.task.exterior_bin_centers_deg)
+        self._edges = bin_edges_rad(self.task.exterior_bin_edges_deg)
         self._light = formation.light.position_m
         self.sim = BulletSimulation(robot=assemble(formation), settings=physics)
         self.lower_agent = LowerAgent(sim=self.sim, config=self.task.lower_agent)

@@ -15,12 +15,15 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from qdsega.description import Formation
 from qdsega.locomotion.body_pose import BodyPose, BodyPoseEstimator
-from qdsega.simulation import BulletSimulation
+
+if TYPE_CHECKING:  # the configuration is usable without starting the physics engine
+    from qdsega.simulation.bullet import BulletSimulation
 
 
 @dataclass(frozen=True, kw_only=True)

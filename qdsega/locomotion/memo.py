@@ -29,7 +29,8 @@ from qdsega.agent.world import Transitions
 from qdsega.assembly import assemble
 from qdsega.description import Formation
 from qdsega.locomotion.lower_agent import LowerAgent, LowerAgentConfig
-from qdsega.simulation import BulletSimulation, PhysicsSettings
+from qdsega.simulation import PhysicsSettings
+from qdsega.simulation.bullet import BulletSimulation
 
 SETTLE_S = 0.5
 """Rest time in the start posture of a transition before the command (s)."""

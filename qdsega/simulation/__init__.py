@@ -1,6 +1,10 @@
-"""Simulation: assembled formations in PyBullet (the only package that imports pybullet)."""
+"""Simulation: assembled formations in PyBullet.
 
-from qdsega.simulation.bullet import BulletSimulation
+Only :mod:`qdsega.simulation.bullet` imports pybullet (import ``BulletSimulation`` from there);
+this package itself stays light so that configurations can name :class:`PhysicsSettings`
+without starting the engine.
+"""
+
 from qdsega.simulation.settings import PhysicsSettings
 
-__all__ = ["BulletSimulation", "PhysicsSettings"]
+__all__ = ["PhysicsSettings"]

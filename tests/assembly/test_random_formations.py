@@ -11,7 +11,7 @@ from hypothesis import strategies as st
 from qdsega import UNITS_DIR
 from qdsega.assembly import assemble
 from qdsega.description import load_formation
-from qdsega.simulation import BulletSimulation
+from qdsega.simulation.bullet import BulletSimulation
 
 CONNECTORS = ("back", "left", "right")  # both shipped unit types have these
 

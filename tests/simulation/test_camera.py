@@ -5,7 +5,7 @@ import pytest
 
 from qdsega.assembly import assemble
 from qdsega.description import load_formation
-from qdsega.simulation import BulletSimulation
+from qdsega.simulation.bullet import BulletSimulation
 
 
 @pytest.mark.parametrize("egl", [True, False], ids=["egl", "tiny-renderer"])

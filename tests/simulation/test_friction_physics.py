@@ -7,7 +7,7 @@ import numpy as np
 
 from qdsega.assembly import assemble
 from qdsega.description import Formation, Friction, load_formation
-from qdsega.simulation import BulletSimulation
+from qdsega.simulation.bullet import BulletSimulation
 
 
 def _serpentine_displacement(formation: Formation, seconds: float = 4.0) -> np.ndarray:

@@ -6,7 +6,7 @@ from helpers import SHIPPED_FORMATIONS
 
 from qdsega.assembly import assemble
 from qdsega.description import load_formation
-from qdsega.simulation import BulletSimulation
+from qdsega.simulation.bullet import BulletSimulation
 
 
 @pytest.mark.parametrize("file", SHIPPED_FORMATIONS, ids=lambda f: f.stem)
