@@ -7,10 +7,10 @@ import sys
 from collections.abc import Sequence
 
 from qdsega import __version__
-from qdsega.commands import assemble, plot, train
+from qdsega.commands import assemble, evaluate, plot, train
 from qdsega.errors import FormationError
 
-COMMANDS = (assemble, train, plot)
+COMMANDS = (assemble, train, evaluate, plot)
 """Each module provides ``NAME``, ``HELP``, ``add_arguments(parser)`` and ``run(args) -> int``."""
 
 
@@ -21,7 +21,7 @@ def build_parser() -> argparse.ArgumentParser:
     for command in COMMANDS:
         sub = subparsers.add_parser(command.NAME, help=command.HELP, description=command.HELP)
         command.add_arguments(sub)
-        sub.set_defaults(run=command.run)
+        sub.set_defaults(handler=command.run)
     return parser
 
 
@@ -29,7 +29,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     """Entry point. Bad input exits with status 2 and one line on stderr."""
     args = build_parser().parse_args(argv)
     try:
-        return args.run(args)
+        return args.handler(args)
     except FormationError as exc:
         print(f"qdsega {args.command}: error: {exc}", file=sys.stderr)
         return 2

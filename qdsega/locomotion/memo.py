@@ -160,6 +160,7 @@ class _Bench:
         self.sim = BulletSimulation(robot=assemble(formation), settings=physics)
         self.agent = LowerAgent(sim=self.sim, config=lower_agent)
         self.pristine = self.sim.save_state()
+        self.rest = np.array(formation.rest_levels(), dtype=np.int64)
         self.settle_steps = max(1, round(SETTLE_S / physics.time_step_s))
 
 
@@ -180,7 +181,11 @@ def _measure_from(source: np.ndarray, targets: np.ndarray) -> np.ndarray:
     assert bench is not None, "worker not initialised"
     sim, agent = bench.sim, bench.agent
     sim.restore_state(bench.pristine)
-    sim.reset(bench.formation.posture_rad(source))
+    sim.reset(bench.formation.posture_rad(bench.rest))
+    sim.step(bench.settle_steps)
+    if agent.execute(source).failed:  # not reachable from rest: teleport into it instead
+        sim.restore_state(bench.pristine)
+        sim.reset(bench.formation.posture_rad(source))
     sim.step(bench.settle_steps)
     settled = sim.save_state()
     start = agent.pose()

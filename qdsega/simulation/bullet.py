@@ -6,22 +6,22 @@ This is the only module that imports pybullet. Each :class:`BulletSimulation` ow
 
 from __future__ import annotations
 
-import contextlib
 import importlib.util
 import math
-import os
-import sys
 import tempfile
-from collections.abc import Iterator, Sequence
+from collections.abc import Sequence
 from pathlib import Path
 
 import numpy as np
-import pybullet
-import pybullet_data
-from pybullet_utils.bullet_client import BulletClient
 
 from qdsega.assembly import AssembledRobot, write_assembly
+from qdsega.simulation.quiet import native_output_silenced
 from qdsega.simulation.settings import PhysicsSettings
+
+with native_output_silenced(2):  # pybullet prints its build time to stderr on import
+    import pybullet
+    import pybullet_data
+    from pybullet_utils.bullet_client import BulletClient
 
 _DROP_CLEARANCE_M = 0.002
 """Gap between the robot's lowest point and the ground when it is placed (m)."""
@@ -47,7 +47,7 @@ class BulletSimulation:
         self.robot = robot
         self.formation = robot.formation
         self.settings = settings or PhysicsSettings()
-        with _native_stdout_silenced():  # the engine prints its banner to the C-level stdout
+        with native_output_silenced(1):  # the engine prints its banner to the C-level stdout
             self.client = BulletClient(connection_mode=pybullet.DIRECT)
         self._folder = tempfile.TemporaryDirectory(prefix="qdsega-urdf-")
         urdf_file = Path(self._folder.name) / f"{self.formation.name}.urdf"
@@ -62,7 +62,7 @@ class BulletSimulation:
             flags |= pybullet.URDF_USE_SELF_COLLISION | (
                 pybullet.URDF_USE_SELF_COLLISION_EXCLUDE_PARENT
             )
-        with _native_stdout_silenced():
+        with native_output_silenced(1):
             self.body_id = self.client.loadURDF(str(urdf_file), flags=flags)
         self.link_index = self._link_indices()
         self._unit_link_indices = [self.link_index[u.name] for u in self.formation.units]
@@ -217,7 +217,7 @@ class BulletSimulation:
         spec = importlib.util.find_spec("eglRenderer")
         if spec is None or spec.origin is None:
             return False
-        with _native_stdout_silenced():
+        with native_output_silenced(1):
             return self.client.loadPlugin(spec.origin, "_eglRendererPlugin") >= 0
 
     def add_light(self, xy_m: tuple[float, float], *, radius_m: float) -> None:
@@ -273,18 +273,3 @@ class BulletSimulation:
 
     def __exit__(self, *exc: object) -> None:
         self.close()
-
-
-@contextlib.contextmanager
-def _native_stdout_silenced() -> Iterator[None]:
-    """Send file descriptor 1 to /dev/null for the duration (pybullet's C code prints there)."""
-    sys.stdout.flush()
-    saved = os.dup(1)
-    devnull = os.open(os.devnull, os.O_WRONLY)
-    try:
-        os.dup2(devnull, 1)
-        yield
-    finally:
-        os.dup2(saved, 1)
-        os.close(saved)
-        os.close(devnull)

@@ -24,10 +24,12 @@ import yaml
 
 from qdsega.agent.config import PRESETS, QDSEGAConfig
 from qdsega.errors import FormationError
+from qdsega.locomotion.lower_agent import LowerAgentConfig
 from qdsega.msm import MSMParameters
+from qdsega.simulation import PhysicsSettings
 
-SIMULATORS = ("msm",)
-"""Worlds ``qdsega train`` can learn in."""
+SIMULATORS = ("msm", "memo")
+"""Worlds ``qdsega train`` can learn in (:mod:`qdsega.training.worlds`)."""
 
 
 @dataclass(frozen=True)
@@ -37,11 +39,15 @@ class TrainingConfig:
     Attributes:
         preset: the preset the run started from (``paper-legged`` or ``paper-snake``).
         seed: seed of the run's only random generator.
-        sim: the world (``msm``: the Minimal Simulation Model of section 4.1.2).
+        sim: the world: ``msm`` (the Minimal Simulation Model of section 4.1.2) or ``memo``
+            (PyBullet transitions measured once each).
         light_bearing_deg: put the light at this bearing (deg, counter-clockwise from the
             initial heading), at the formation's distance; None keeps the formation's light.
         agent: the learner's hyperparameters.
         msm: the Minimal Simulation Model's constants.
+        lower_agent: how PyBullet worlds execute postures and when that fails.
+        physics: PyBullet engine settings.
+        workers: processes measuring memo transitions in parallel.
     """
 
     preset: str = "paper-legged"
@@ -50,6 +56,13 @@ class TrainingConfig:
     light_bearing_deg: float | None = None
     agent: QDSEGAConfig = field(default_factory=QDSEGAConfig)
     msm: MSMParameters = field(default_factory=MSMParameters)
+    lower_agent: LowerAgentConfig = field(default_factory=LowerAgentConfig)
+    physics: PhysicsSettings = field(default_factory=PhysicsSettings)
+    workers: int = 2
+
+    def __post_init__(self) -> None:
+        if self.workers < 1:
+            raise ValueError(f"workers must be at least 1, got {self.workers}")
 
     def to_dict(self) -> dict[str, Any]:
         """Plain types only (tuples become lists), for YAML."""

@@ -1,4 +1,4 @@
-"""A training run: learn a formation's locomotion in the MSM and write the run folder.
+"""A training run: learn a formation's locomotion and write the run folder.
 
 The run folder holds:
 
@@ -6,7 +6,11 @@ The run folder holds:
 * ``metrics.csv``: one row per generation (see :data:`METRIC_COLUMNS`);
 * ``summary.json``: the outcome (greedy distance, exact optimum, budget, wall time, seed);
   ``optimum`` is the straight-walk optimum of :func:`qdsega.msm.msm_optimum`, exact
-  (``optimum_exact``) for a light straight ahead, an upper reference otherwise;
+  (``optimum_exact``) for a light straight ahead, an upper reference otherwise; null in
+  PyBullet worlds (``qdsega evaluate`` measures a reference gait there);
+* ``policy.npz``: the final generation's greedy policy: ``q`` (states, A), ``actions`` (A, J),
+  ``postures`` (interior states, J), ``next_interior`` (A,);
+* ``transitions.npz`` (memo mode): every measured transition, reused when the run resumes;
 * ``trajectories.npz``: what the figures need: ``poses`` (G, steps + 1, 3), the greedy trial
   of every generation (x m, y m, theta rad); ``gait_postures`` (k + 1, J) and ``gait_legs``
   (k + 1, n_legs), the last generation's greedy trial as postures and as leg states 1..4;
@@ -28,8 +32,8 @@ import yaml
 
 from qdsega.agent.learner import QDSEGA
 from qdsega.description import Formation, Light, load_formation
-from qdsega.msm import LegLayout, MinimalSimulationModel, msm_optimum
 from qdsega.training.config import TrainingConfig
+from qdsega.training.worlds import TrainingWorld, build_world, leg_states, light_of
 
 METRIC_COLUMNS = (
     "generation",
@@ -70,18 +74,31 @@ def train(
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     formation = prepare_formation(formation_file, config)
-    layout = LegLayout.from_formation(formation)
-    world = MinimalSimulationModel(legs=layout, params=config.msm)
-    light = formation.light.position_m
+    world = build_world(formation, config, out)
+    try:
+        return _train(formation, config, out, world, start, log)
+    finally:
+        world.close()
+
+
+def _train(
+    formation: Formation,
+    config: TrainingConfig,
+    out: Path,
+    world: TrainingWorld,
+    start: float,
+    log: Callable[[str], None] | None,
+) -> dict[str, Any]:
+    light = light_of(formation)
     steps_per_trial = config.agent.learning.trial_steps
-    optimum = msm_optimum(world, steps=steps_per_trial, light_xy=light)
+    optimum = world.optimum
     (out / "config.yaml").write_text(
         yaml.safe_dump(config.to_dict(), sort_keys=False), encoding="utf-8"
     )
     learner = QDSEGA(
         config=config.agent,
         levels=np.array([len(j.levels_rad) for j in formation.joints]),
-        world=world,
+        world=world.provider,
         light_xy=light,
         rng=np.random.default_rng(config.seed),
     )
@@ -105,24 +122,36 @@ def train(
                 ]
             )
             stream.flush()
+            world.save(out)
             if log is not None:
+                oracle = "" if optimum is None else f" (optimum {optimum.bound_m:.3f} m)"
                 log(
                     f"generation {generation.index}: {generation.space.n_actions} actions, "
-                    f"greedy {generation.greedy_distance:.3f} m "
-                    f"(optimum {optimum.bound_m:.3f} m)"
+                    f"greedy {generation.greedy_distance:.3f} m{oracle}"
                 )
     gait = generation.greedy_postures()
+    layout = world.layout
     np.savez_compressed(
         out / "trajectories.npz",
         poses=np.array(poses),
         gait_postures=gait,
-        gait_legs=layout.states(gait),
-        leg_names=np.array(layout.names),
-        optimum_postures=optimum.postures,
+        gait_legs=leg_states(layout, gait),
+        leg_names=np.array([] if layout is None else layout.names, dtype=str),
+        optimum_postures=np.zeros((0, len(formation.joints)), dtype=np.int64)
+        if optimum is None
+        else optimum.postures,
         light=np.array(light),
+    )
+    np.savez_compressed(
+        out / "policy.npz",
+        q=generation.q,
+        actions=generation.space.actions,
+        postures=generation.space.postures,
+        next_interior=generation.space.next_interior,
     )
     summary = {
         "formation": formation.name,
+        "formation_file": str(Path(formation.file).resolve()),
         "sim": config.sim,
         "preset": config.preset,
         "seed": config.seed,
@@ -132,9 +161,11 @@ def train(
         "env_steps": env_steps,
         "greedy_distance": generation.greedy_distance,
         "greedy_fell": generation.greedy_fell,
-        "optimum": optimum.bound_m,
-        "optimum_exact": optimum.exact,
-        "greedy_over_optimum": generation.greedy_distance / optimum.bound_m,
+        "optimum": None if optimum is None else optimum.bound_m,
+        "optimum_exact": None if optimum is None else optimum.exact,
+        "greedy_over_optimum": None
+        if optimum is None
+        else generation.greedy_distance / optimum.bound_m,
         "final_heading_deg": math.degrees(generation.greedy_poses[-1, 2]),
         "light_xy": list(light),
         "wall_s": time.perf_counter() - start,

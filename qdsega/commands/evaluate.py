@@ -1,0 +1,30 @@
+"""``qdsega evaluate``: replay a run's greedy policy with exact physics, beside a reference."""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+NAME = "evaluate"
+HELP = "replay a run's greedy policy in PyBullet and compare it with a reference gait"
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("run", type=Path, metavar="RUN", help="a run folder of qdsega train")
+
+
+def run(args: argparse.Namespace) -> int:
+    # Imported here: it starts PyBullet, which the other commands need not load.
+    from qdsega.training.evaluation import EVALUATION_FILE, evaluate_run
+
+    result = evaluate_run(args.run)
+    reference = result["reference"]
+    ratio = "n/a" if result["ratio"] is None else f"{result['ratio']:.3f}"
+    predicted = result["memo_prediction_m"]
+    memo = "" if predicted is None else f" (memo predicted {predicted:.4f} m)"
+    print(
+        f"{result['formation']}: learnt policy {result['distance_m']:.4f} m{memo}; "
+        f"reference {reference['kind']} {reference['distance_m']:.4f} m; ratio {ratio} "
+        f"-> {args.run / EVALUATION_FILE}"
+    )
+    return 0

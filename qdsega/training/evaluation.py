@@ -1,0 +1,190 @@
+"""Evaluate a run with exact physics: its greedy policy against a reference gait.
+
+``evaluation.json`` in the run folder holds:
+
+* ``distance_m``: distance toward the light covered in one trial by the greedy final policy,
+  every step simulated in PyBullet (same lower agent, step duration and trial length as in
+  training); ``failure`` says why the trial ended early, if it did;
+* ``memo_prediction_m``: what the memo table predicted for that policy (memo runs);
+* ``reference``: the best reference gait under the same rules and its distance: for a snake,
+  the best serpenoid wave of a grid over amplitude, phase lag and steps per cycle, snapped to
+  the joint levels; for a legged body, the best of the classic gaits in the paper's four leg
+  states (:mod:`qdsega.locomotion.reference_gaits`);
+* ``ratio``: ``distance_m / reference.distance_m``;
+* ``postures``: the commanded postures (level indices), step by step;
+* ``wave`` (formations with two or more joints): the period of the joint-angle sequence and the
+  phase lag between neighbouring joints, measured from the commanded angles.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import yaml
+
+from qdsega.description import Formation
+from qdsega.errors import FormationError
+from qdsega.locomotion import reference_gaits
+from qdsega.locomotion.env import LocomotionEnv, TaskConfig
+from qdsega.training.config import TrainingConfig, resolve_config
+from qdsega.training.run import prepare_formation
+
+EVALUATION_FILE = "evaluation.json"
+
+
+def evaluate_run(run: Path | str) -> dict[str, Any]:
+    """Replay the run's greedy policy and the reference gaits; write ``evaluation.json``.
+
+    Raises:
+        FormationError: missing or corrupt run folder.
+    """
+    run = Path(run)
+    summary, config, policy = _load_run(run)
+    formation = prepare_formation(summary["formation_file"], config)
+    env = LocomotionEnv(formation=formation, task=task_of(config), physics=config.physics)
+    try:
+        learned = replay_policy(env, policy)
+        reference = best_reference(env, formation, config.agent.learning.trial_steps)
+    finally:
+        env.close()
+    result: dict[str, Any] = {
+        "formation": formation.name,
+        "sim": config.sim,
+        "distance_m": learned["distance_m"],
+        "failure": learned["failure"],
+        "memo_prediction_m": summary["greedy_distance"] if config.sim == "memo" else None,
+        "reference": reference,
+        "ratio": learned["distance_m"] / reference["distance_m"]
+        if reference["distance_m"] > 0
+        else None,
+        "postures": learned["postures"],
+    }
+    if len(formation.joints) >= 2 and len(learned["postures"]) >= 4:
+        result["wave"] = wave_of(formation, np.array(learned["postures"]))
+    (run / EVALUATION_FILE).write_text(json.dumps(result, indent=2) + "\n", encoding="utf-8")
+    return result
+
+
+def task_of(config: TrainingConfig) -> TaskConfig:
+    """The PyBullet task with the learner's trial length, reward, penalty and exterior bins."""
+    learning = config.agent.learning
+    return TaskConfig(
+        trial_steps=learning.trial_steps,
+        reward_scale=learning.reward_scale,
+        penalty=learning.penalty,
+        exterior_bin_edges_deg=learning.exterior_bin_edges_deg,
+        lower_agent=config.lower_agent,
+    )
+
+
+def replay_policy(env: LocomotionEnv, policy: dict[str, np.ndarray]) -> dict[str, Any]:
+    """One trial of the greedy policy (ties: first action) in ``env``."""
+    q, actions, next_interior = policy["q"], policy["actions"], policy["next_interior"]
+    n_exterior = q.shape[0] // len(policy["postures"])
+    observation, info = env.reset(seed=0)
+    interior, postures, failure = 0, [], None
+    for _ in range(env.task.trial_steps):
+        action = int(np.argmax(q[interior * n_exterior + int(observation[-1])]))
+        observation, _, terminated, truncated, info = env.step(actions[action])
+        postures.append([int(level) for level in actions[action]])
+        if terminated:
+            failure = info["failure"]
+            break
+        interior = int(next_interior[action])
+        if truncated:
+            break
+    return {"distance_m": info["distance_covered_m"], "failure": failure, "postures": postures}
+
+
+def replay_postures(env: LocomotionEnv, postures: np.ndarray) -> tuple[float, str | None]:
+    """Distance toward the light (m) covered by a fixed posture sequence, and any failure."""
+    env.reset(seed=0)
+    info: dict[str, Any] = {"distance_covered_m": 0.0}
+    for posture in postures:
+        _, _, terminated, truncated, info = env.step(posture)
+        if terminated:
+            return info["distance_covered_m"], info["failure"]
+        if truncated:
+            break
+    return info["distance_covered_m"], None
+
+
+def best_reference(env: LocomotionEnv, formation: Formation, steps: int) -> dict[str, Any]:
+    """The best reference gait for ``formation`` under ``env``'s rules."""
+    if formation.legs:
+        candidates = [
+            ({"gait": gait}, reference_gaits.leg_gait(formation, gait=gait, steps=steps))
+            for gait in reference_gaits.LEG_GAITS
+        ]
+        kind = "classic leg gait"
+    else:
+        candidates = list(reference_gaits.serpenoid_grid(formation, steps=steps))
+        kind = "serpenoid travelling wave"
+    best: dict[str, Any] = {"kind": kind, "distance_m": -math.inf}
+    for params, postures in candidates:
+        distance, failure = replay_postures(env, postures)
+        if failure is None and distance > best["distance_m"]:
+            best = {"kind": kind, "params": params, "distance_m": distance}
+    if best["distance_m"] == -math.inf:
+        best["distance_m"] = 0.0
+    return best
+
+
+def wave_of(formation: Formation, postures: np.ndarray) -> dict[str, Any]:
+    """Period (steps) of the commanded joint angles and the phase lag (deg) between
+    neighbouring joints, from the autocorrelation and the cross-correlation of the angles."""
+    angles = np.array([formation.posture_rad(row) for row in postures])
+    centred = angles - angles.mean(axis=0)
+    steps = len(centred)
+    period = _period(centred)
+    lags = []
+    for i in range(centred.shape[1] - 1):
+        a, b = centred[:, i], centred[:, i + 1]
+        if not (a.any() and b.any()):
+            continue
+        shifts = range(period) if period else range(1)
+        scores = [float(np.dot(a[: steps - k], b[k:])) for k in shifts]
+        lags.append(360.0 * int(np.argmax(scores)) / period if period else 0.0)
+    return {
+        "period_steps": period,
+        "phase_lag_deg": lags,
+        "mean_phase_lag_deg": float(np.mean(lags)) if lags else None,
+        "joint_angles_deg": np.degrees(angles).round(3).tolist(),
+    }
+
+
+def _period(centred: np.ndarray) -> int:
+    """Smallest lag (>= 2 steps) at which the summed autocorrelation peaks; 0 if none."""
+    steps = len(centred)
+    scores = [
+        float(np.sum(centred[: steps - k] * centred[k:])) / (steps - k)
+        for k in range(2, steps // 2 + 1)
+    ]
+    if not scores or max(scores) <= 0:
+        return 0
+    return 2 + int(np.argmax(scores))
+
+
+def _load_run(run: Path) -> tuple[dict[str, Any], TrainingConfig, dict[str, np.ndarray]]:
+    files = {name: run / name for name in ("summary.json", "config.yaml", "policy.npz")}
+    if not run.is_dir():
+        raise FormationError("run folder not found", file=run)
+    for name, file in files.items():
+        if not file.is_file():
+            raise FormationError(f"not a finished run folder (no {name})", file=run)
+    try:
+        summary = json.loads(files["summary.json"].read_text(encoding="utf-8"))
+        data = yaml.safe_load(files["config.yaml"].read_text(encoding="utf-8"))
+        with np.load(files["policy.npz"]) as stored:
+            policy = {key: stored[key] for key in ("q", "actions", "postures", "next_interior")}
+    except (OSError, ValueError, KeyError, yaml.YAMLError) as exc:
+        message = f"corrupt run folder ({exc.__class__.__name__}: {exc})"
+        raise FormationError(message, file=run) from None
+    if not isinstance(data, dict) or "preset" not in data:
+        raise FormationError("corrupt run folder (config.yaml is not a configuration)", file=run)
+    config = resolve_config(preset=data["preset"], file=files["config.yaml"])
+    return summary, config, policy

@@ -1,0 +1,89 @@
+"""The world a training run learns in, built from the run's configuration.
+
+* ``msm``: the Minimal Simulation Model (section 4.1.2) of a legged formation, with its exact
+  optimum as the oracle.
+* ``memo``: PyBullet posture-to-posture transitions, each measured once and kept in the run
+  folder (``transitions.npz``), filled on demand by worker processes
+  (:mod:`qdsega.locomotion.memo`).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from qdsega.agent.world import TransitionProvider
+from qdsega.description import Formation
+from qdsega.msm import LegLayout, MinimalSimulationModel, Optimum, msm_optimum
+from qdsega.training.config import TrainingConfig
+
+MEMO_FILE = "transitions.npz"
+"""The memo table in a run folder."""
+
+
+@dataclass
+class TrainingWorld:
+    """A world and what the run needs to know about it.
+
+    Attributes:
+        provider: the posture-transition table the learner runs on.
+        optimum: the exact optimum where one is known (the MSM), else None.
+        layout: the legs, for gait figures; None for a legless formation.
+    """
+
+    provider: TransitionProvider
+    optimum: Optimum | None
+    layout: LegLayout | None
+
+    def save(self, run: Path) -> None:
+        """Keep what the world measured (memo mode) in the run folder."""
+        save = getattr(self.provider, "save", None)
+        if save is not None:
+            save(run / MEMO_FILE)
+
+    def close(self) -> None:
+        close = getattr(self.provider, "close", None)
+        if close is not None:
+            close()
+
+
+def build_world(formation: Formation, config: TrainingConfig, run: Path) -> TrainingWorld:
+    """The world ``config.sim`` names, for ``formation``; memo mode reuses ``run``'s table.
+
+    Raises:
+        FormationError: the formation cannot be modelled by that world (a snake in the MSM).
+    """
+    if config.sim == "msm":
+        layout = LegLayout.from_formation(formation)  # refuses a legless formation
+        model = MinimalSimulationModel(legs=layout, params=config.msm)
+        steps = config.agent.learning.trial_steps
+        return TrainingWorld(
+            model, msm_optimum(model, steps=steps, light_xy=light_of(formation)), layout
+        )
+    from qdsega.locomotion.memo import MeasuredTransitions  # starts PyBullet: only when needed
+
+    provider = MeasuredTransitions(
+        formation=formation,
+        lower_agent=config.lower_agent,
+        physics=config.physics,
+        workers=config.workers,
+    )
+    if (run / MEMO_FILE).is_file():
+        provider.load(run / MEMO_FILE)
+    layout = LegLayout.from_formation(formation) if formation.legs else None
+    return TrainingWorld(provider, None, layout)
+
+
+def light_of(formation: Formation) -> tuple[float, float]:
+    """The light position (m) as a plain tuple."""
+    x, y = formation.light.position_m
+    return (float(x), float(y))
+
+
+def leg_states(layout: LegLayout | None, postures: np.ndarray) -> np.ndarray:
+    """Leg states 1..4 of each posture (k, J) -> (k, n_legs); empty columns without legs."""
+    if layout is None:
+        return np.zeros((len(postures), 0), dtype=np.int64)
+    return layout.states(postures)
