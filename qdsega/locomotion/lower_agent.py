@@ -35,14 +35,15 @@ class LowerAgentConfig:
         joint_speed_rad_s: the constant angular speed of every joint (rad/s).
         tolerance_rad: a joint has reached its level when this close at the step's end (rad).
         max_tilt_rad: a trunk unit tilted more than this from upright means the body flipped.
-        check_interval_steps: physics steps between failure checks during a step (-).
+        check_interval_steps: physics steps between failure checks during a step (-); 12 is
+            20 Hz at PyBullet's 240 Hz, and keeps the checks under 5% of a snake5 step.
     """
 
     step_duration_s: float = 0.5
     joint_speed_rad_s: float = 1.5
     tolerance_rad: float = math.radians(4.0)
     max_tilt_rad: float = math.radians(60.0)
-    check_interval_steps: int = 6
+    check_interval_steps: int = 12
 
     def __post_init__(self) -> None:
         for name in ("step_duration_s", "joint_speed_rad_s", "tolerance_rad", "max_tilt_rad"):
