@@ -79,6 +79,15 @@ class StepResult:
 class World(Protocol):
     """A step-by-step world: one trial at a time, one commanded posture at a time."""
 
+    @property
+    def n_joints(self) -> int:
+        """Length J of a posture vector."""
+        ...
+
+    def start_posture(self) -> np.ndarray:
+        """Level indices (J,) of the posture every trial starts from."""
+        ...
+
     def start_trial(self) -> int:
         """Put the robot at its start pose and posture; return the exterior state."""
         ...
@@ -89,6 +98,10 @@ class World(Protocol):
 
     def distance_covered(self) -> float:
         """Distance toward the light covered since the trial started (m)."""
+        ...
+
+    def pose(self) -> tuple[float, float, float]:
+        """The robot's planar pose now: x (m), y (m), heading (rad)."""
         ...
 
 

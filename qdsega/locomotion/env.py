@@ -121,6 +121,10 @@ class LocomotionEnv(gym.Env[np.ndarray, np.ndarray]):
         truncated = not failed and self._steps >= self.task.trial_steps
         return self._observation(), float(reward), failed, truncated, self._info(outcome.failure)
 
+    def body_pose(self) -> BodyPose:
+        """The body's pose after the last successful step (or at the episode's start)."""
+        return self._pose
+
     def distance_covered(self) -> float:
         """Distance toward the light gained since the episode started (m)."""
         return self._distance(self._start_pose) - self._distance(self._pose)
