@@ -12,7 +12,8 @@ import numpy as np
 
 from qdsega.errors import FormationError
 
-FIGURES = ("fig11_trajectories.png", "fig12_gait.png")
+FIGURES = ("fig11_trajectories.png", "fig12_gait.png", "joint_angles.png")
+"""Trajectories, the legs' gait (legged formations only) and the joint angles."""
 
 
 def selected_generations(count: int, shown: int = 6) -> list[int]:
@@ -32,8 +33,12 @@ def plot_run(run: Path | str) -> list[Path]:
         raise FormationError("not a run folder (no trajectories.npz)", file=run)
     with np.load(source) as data:
         poses, legs, names = data["poses"], data["gait_legs"], data["leg_names"]
-        light = data["light"]
-    return [_trajectories(run / FIGURES[0], poses, light), _gait(run / FIGURES[1], legs, names)]
+        light, angles, joints = data["light"], data["gait_angles_deg"], data["joint_names"]
+    paths = [_trajectories(run / FIGURES[0], poses, light)]
+    if legs.shape[1] > 0:
+        paths.append(_gait(run / FIGURES[1], legs, names))
+    paths.append(_joint_angles(run / FIGURES[2], angles, joints))
+    return paths
 
 
 def _trajectories(path: Path, poses: np.ndarray, light: np.ndarray) -> Path:
@@ -74,6 +79,23 @@ def _gait(path: Path, legs: np.ndarray, names: np.ndarray) -> Path:
     ax.set_yticks(range(len(names)), [str(n) for n in names])
     ax.set_xlabel("step (0: initial posture)")
     ax.set_title("Acquired gait: 1 fwd+down, 2 back+down, 3 fwd+up, 4 back+up")
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+    return path
+
+
+def _joint_angles(path: Path, angles: np.ndarray, names: np.ndarray) -> Path:
+    """Commanded joint angles of the final greedy trial, one line per joint, stacked."""
+    count = angles.shape[1]
+    spacing = max(float(np.ptp(angles)) if angles.size else 0.0, 1.0) * 1.2
+    fig, ax = plt.subplots(figsize=(7, 0.45 * count + 1.5))
+    steps = np.arange(len(angles))
+    for k in range(count):
+        ax.step(steps, angles[:, k] - k * spacing, where="post", linewidth=1.2)
+    ax.set_yticks([-k * spacing for k in range(count)], [str(n) for n in names])
+    ax.set_xlabel("step (0: initial posture)")
+    ax.set_title(f"Joint angles of the acquired motion (each line spans {spacing:.0f} deg)")
     fig.tight_layout()
     fig.savefig(path, dpi=120)
     plt.close(fig)

@@ -14,6 +14,7 @@ The run folder holds:
 * ``trajectories.npz``: what the figures need: ``poses`` (G, steps + 1, 3), the greedy trial
   of every generation (x m, y m, theta rad); ``gait_postures`` (k + 1, J) and ``gait_legs``
   (k + 1, n_legs), the last generation's greedy trial as postures and as leg states 1..4;
+  ``gait_angles_deg`` (k + 1, J) and ``joint_names`` (J,), the same trial as joint angles;
   ``optimum_postures`` (steps + 1, J), the optimum's witness; ``light`` (2,) (m).
 """
 
@@ -135,6 +136,8 @@ def _train(
         out / "trajectories.npz",
         poses=np.array(poses),
         gait_postures=gait,
+        gait_angles_deg=np.degrees([formation.posture_rad(p) for p in gait]),
+        joint_names=np.array([j.name for j in formation.joints], dtype=str),
         gait_legs=leg_states(layout, gait),
         leg_names=np.array([] if layout is None else layout.names, dtype=str),
         optimum_postures=np.zeros((0, len(formation.joints)), dtype=np.int64)
