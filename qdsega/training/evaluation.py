@@ -135,20 +135,24 @@ def best_reference(env: LocomotionEnv, formation: Formation, steps: int) -> dict
 
 
 def wave_of(formation: Formation, postures: np.ndarray) -> dict[str, Any]:
-    """Period (steps) of the commanded joint angles and the phase lag (deg) between
-    neighbouring joints, from the autocorrelation and the cross-correlation of the angles."""
+    """The rhythm of a posture sequence (steps, J): its period (steps) and the phase lag (deg)
+    between neighbouring joints, from the commanded joint angles.
+
+    The period is the shortest shift that maps most postures onto equal postures; the lag
+    between joints ``i`` and ``i + 1`` is the shift (in steps, within one period) that best
+    aligns joint ``i + 1``'s angles onto joint ``i``'s, as a fraction of the period.
+    """
     angles = np.array([formation.posture_rad(row) for row in postures])
+    period = _period(postures)
     centred = angles - angles.mean(axis=0)
     steps = len(centred)
-    period = _period(centred)
     lags = []
     for i in range(centred.shape[1] - 1):
         a, b = centred[:, i], centred[:, i + 1]
-        if not (a.any() and b.any()):
+        if period == 0 or not (a.any() and b.any()):
             continue
-        shifts = range(period) if period else range(1)
-        scores = [float(np.dot(a[: steps - k], b[k:])) for k in shifts]
-        lags.append(360.0 * int(np.argmax(scores)) / period if period else 0.0)
+        scores = [float(np.dot(a[: steps - k], b[k:])) / (steps - k) for k in range(period)]
+        lags.append(360.0 * int(np.argmax(scores)) / period)
     return {
         "period_steps": period,
         "phase_lag_deg": lags,
@@ -157,16 +161,16 @@ def wave_of(formation: Formation, postures: np.ndarray) -> dict[str, Any]:
     }
 
 
-def _period(centred: np.ndarray) -> int:
-    """Smallest lag (>= 2 steps) at which the summed autocorrelation peaks; 0 if none."""
-    steps = len(centred)
-    scores = [
-        float(np.sum(centred[: steps - k] * centred[k:])) / (steps - k)
-        for k in range(2, steps // 2 + 1)
-    ]
-    if not scores or max(scores) <= 0:
-        return 0
-    return 2 + int(np.argmax(scores))
+def _period(postures: np.ndarray) -> int:
+    """Shortest shift p (2 .. steps/2) with the largest share of t where posture t equals
+    posture t + p; 0 when no shift repeats at least half the postures."""
+    steps = len(postures)
+    best, best_share = 0, 0.5
+    for shift in range(2, steps // 2 + 1):
+        share = float(np.mean(np.all(postures[:-shift] == postures[shift:], axis=1)))
+        if share > best_share + 1e-12:
+            best, best_share = shift, share
+    return best
 
 
 def _load_run(run: Path) -> tuple[dict[str, Any], TrainingConfig, dict[str, np.ndarray]]:

@@ -31,9 +31,12 @@ def plot_run(run: Path | str) -> list[Path]:
     source = run / "trajectories.npz"
     if not source.is_file():
         raise FormationError("not a run folder (no trajectories.npz)", file=run)
-    with np.load(source) as data:
-        poses, legs, names = data["poses"], data["gait_legs"], data["leg_names"]
-        light, angles, joints = data["light"], data["gait_angles_deg"], data["joint_names"]
+    try:
+        with np.load(source) as data:
+            poses, legs, names = data["poses"], data["gait_legs"], data["leg_names"]
+            light, angles, joints = data["light"], data["gait_angles_deg"], data["joint_names"]
+    except (OSError, ValueError, KeyError) as exc:
+        raise FormationError(f"corrupt trajectories.npz ({exc})", file=run) from None
     paths = [_trajectories(run / FIGURES[0], poses, light)]
     if legs.shape[1] > 0:
         paths.append(_gait(run / FIGURES[1], legs, names))
