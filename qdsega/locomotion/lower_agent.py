@@ -14,6 +14,7 @@ the trial with a penalty (section 3.2.3), when
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
@@ -103,15 +104,24 @@ class LowerAgent:
         """The body's pose now."""
         return self.estimator.pose(*self.sim.unit_states())
 
-    def execute(self, levels: np.ndarray) -> Outcome:
-        """Move to the posture ``levels`` (J,) of level indices within one step."""
+    def execute(
+        self, levels: np.ndarray, *, on_physics_step: Callable[[], None] | None = None
+    ) -> Outcome:
+        """Move to the posture ``levels`` (J,) of level indices within one step.
+
+        ``on_physics_step``, if given, is called after every physics step (to film it)."""
         targets = np.array(self.formation.posture_rad(levels))
         self.sim.command(targets, speed_rad_s=self.config.joint_speed_rad_s)
         interval = self.config.check_interval_steps
         done = 0
         while done < self.physics_steps:
             chunk = min(interval, self.physics_steps - done)
-            self.sim.step(chunk)
+            if on_physics_step is None:
+                self.sim.step(chunk)
+            else:
+                for _ in range(chunk):
+                    self.sim.step()
+                    on_physics_step()
             done += chunk
             pose, failure = self._check()
             if failure is not None:

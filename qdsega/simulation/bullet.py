@@ -217,7 +217,7 @@ class BulletSimulation:
         spec = importlib.util.find_spec("eglRenderer")
         if spec is None or spec.origin is None:
             return False
-        with native_output_silenced(1):
+        with native_output_silenced(1), native_output_silenced(2):
             return self.client.loadPlugin(spec.origin, "_eglRendererPlugin") >= 0
 
     def add_light(self, xy_m: tuple[float, float], *, radius_m: float) -> None:
@@ -256,15 +256,17 @@ class BulletSimulation:
         renderer = (
             pybullet.ER_BULLET_HARDWARE_OPENGL if self.egl_enabled else pybullet.ER_TINY_RENDERER
         )
-        _, _, rgba, _, _ = self.client.getCameraImage(
-            width, height, view, projection, renderer=renderer
-        )
+        with native_output_silenced(1):  # the EGL plugin reports its GL vendor on stdout
+            _, _, rgba, _, _ = self.client.getCameraImage(
+                width, height, view, projection, renderer=renderer
+            )
         return np.asarray(rgba, dtype=np.uint8).reshape(height, width, 4)[:, :, :3].copy()
 
     def close(self) -> None:
         """Disconnect from the physics server and delete the temporary URDF."""
         if self.client is not None:
-            self.client.disconnect()
+            with native_output_silenced(1):
+                self.client.disconnect()
             self.client = None  # type: ignore[assignment]
         self._folder.cleanup()
 

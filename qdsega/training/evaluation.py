@@ -43,7 +43,7 @@ def evaluate_run(run: Path | str) -> dict[str, Any]:
         FormationError: missing or corrupt run folder.
     """
     run = Path(run)
-    summary, config, policy = _load_run(run)
+    summary, config, policy = load_run(run)
     formation = prepare_formation(summary["formation_file"], config)
     env = LocomotionEnv(formation=formation, task=task_of(config), physics=config.physics)
     try:
@@ -173,7 +173,12 @@ def _period(postures: np.ndarray) -> int:
     return best
 
 
-def _load_run(run: Path) -> tuple[dict[str, Any], TrainingConfig, dict[str, np.ndarray]]:
+def load_run(run: Path) -> tuple[dict[str, Any], TrainingConfig, dict[str, np.ndarray]]:
+    """A finished run folder's summary, configuration and greedy policy.
+
+    Raises:
+        FormationError: missing folder or files, or files that do not parse.
+    """
     files = {name: run / name for name in ("summary.json", "config.yaml", "policy.npz")}
     if not run.is_dir():
         raise FormationError("run folder not found", file=run)

@@ -1,0 +1,68 @@
+"""``qdsega render``: an off-screen video of a run's greedy policy or of a posture sequence."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+
+from qdsega.errors import FormationError
+
+NAME = "render"
+HELP = "render a run's greedy policy (or a formation and a posture sequence) as MP4 or GIF"
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument(
+        "source",
+        type=Path,
+        metavar="RUN|FORMATION.yaml",
+        help="a run folder, or a formation file together with --postures",
+    )
+    parser.add_argument("-o", "--output", type=Path, required=True, metavar="OUT.mp4|OUT.gif")
+    parser.add_argument(
+        "--postures",
+        type=Path,
+        metavar="FILE.csv",
+        help="with a formation: one row per step, one level index per joint",
+    )
+    parser.add_argument("--width", type=int, default=320, help="pixels (default 320)")
+    parser.add_argument("--height", type=int, default=240, help="pixels (default 240)")
+    parser.add_argument("--fps", type=int, default=20, help="frames per simulated second")
+    parser.add_argument("--distance", type=float, default=1.0, help="camera distance (m)")
+    parser.add_argument("--pitch", type=float, default=25.0, help="camera looks down (deg)")
+    parser.add_argument("--fov", type=float, default=60.0, help="vertical field of view (deg)")
+
+
+def run(args: argparse.Namespace) -> int:
+    # Imported here: rendering starts PyBullet, which the other commands need not load.
+    from qdsega.description import load_formation
+    from qdsega.rendering.camera import CameraConfig
+    from qdsega.training.render import read_postures, render_postures, render_run
+
+    try:
+        camera = CameraConfig(
+            width=args.width,
+            height=args.height,
+            fps=args.fps,
+            distance_m=args.distance,
+            pitch_deg=args.pitch,
+            fov_deg=args.fov,
+        )
+    except ValueError as exc:
+        raise FormationError(str(exc)) from None
+    if args.source.is_dir():
+        film = render_run(args.source, args.output, camera)
+    elif args.postures is None:
+        raise FormationError("a formation file needs --postures FILE.csv", file=args.source)
+    else:
+        formation = load_formation(args.source)
+        postures = read_postures(args.postures, len(formation.joints))
+        film = render_postures(formation, postures, args.output, camera)
+    if not film.egl:
+        print(
+            "qdsega render: warning: EGL unavailable, rendered with TinyRenderer", file=sys.stderr
+        )
+    stopped = f" (stopped early: {film.failure})" if film.failure else ""
+    print(f"{len(film.frames)} frames at {film.fps} fps -> {args.output}{stopped}")
+    return 0

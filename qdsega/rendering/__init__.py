@@ -1,0 +1,1 @@
+"""Rendering: off-screen videos of a formation executing postures."""

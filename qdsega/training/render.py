@@ -1,0 +1,73 @@
+"""A run folder's greedy policy, or any posture sequence, as a video."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+
+from qdsega.description import Formation
+from qdsega.errors import FormationError
+from qdsega.locomotion.env import LocomotionEnv, TaskConfig
+from qdsega.rendering.camera import CameraConfig
+from qdsega.rendering.recorder import Film, record
+from qdsega.rendering.video import VIDEO_SUFFIXES, write_video
+from qdsega.simulation import PhysicsSettings
+from qdsega.training.evaluation import EVALUATION_FILE, load_run, replay_policy, task_of
+from qdsega.training.run import prepare_formation
+
+
+def render_run(run: Path, out: Path, camera: CameraConfig) -> Film:
+    """Film the run's greedy policy in exact physics (the postures ``qdsega evaluate`` replays,
+    replayed anew if the run has no evaluation yet) and write the video to ``out``."""
+    _check_suffix(out)
+    summary, config, policy = load_run(run)
+    formation = prepare_formation(summary["formation_file"], config)
+    task = task_of(config)
+    evaluation = run / EVALUATION_FILE
+    if evaluation.is_file():
+        postures = np.array(json.loads(evaluation.read_text(encoding="utf-8"))["postures"])
+    else:
+        env = LocomotionEnv(formation=formation, task=task, physics=config.physics)
+        try:
+            postures = np.array(replay_policy(env, policy)["postures"])
+        finally:
+            env.close()
+    return render_postures(formation, postures, out, camera, task=task, physics=config.physics)
+
+
+def render_postures(
+    formation: Formation,
+    postures: np.ndarray,
+    out: Path,
+    camera: CameraConfig,
+    *,
+    task: TaskConfig | None = None,
+    physics: PhysicsSettings | None = None,
+) -> Film:
+    """Film ``postures`` (steps, J) of level indices and write the video to ``out``."""
+    _check_suffix(out)
+    postures = np.asarray(postures, dtype=np.int64).reshape(-1, len(formation.joints))
+    counts = np.array([len(j.levels_rad) for j in formation.joints])
+    if np.any(postures < 0) or np.any(postures >= counts):
+        raise FormationError(f"postures hold levels outside 0..(levels - 1) of {formation.name}")
+    film = record(formation, postures, task=task or TaskConfig(), camera=camera, physics=physics)
+    write_video(film.frames, out, fps=film.fps)
+    return film
+
+
+def read_postures(file: Path, joints: int) -> np.ndarray:
+    """A posture sequence from a CSV file: one row per step, one level index per joint."""
+    try:
+        rows = np.loadtxt(file, delimiter=",", dtype=np.int64, ndmin=2, comments="#")
+    except (OSError, ValueError) as exc:
+        raise FormationError(f"cannot read postures: {exc}", file=file) from None
+    if rows.shape[1] != joints or len(rows) == 0:
+        raise FormationError(f"expected rows of {joints} level indices", file=file)
+    return rows
+
+
+def _check_suffix(out: Path) -> None:
+    if out.suffix.lower() not in VIDEO_SUFFIXES:
+        raise FormationError(f"video must end in {' or '.join(VIDEO_SUFFIXES)}", file=out)

@@ -1,0 +1,80 @@
+"""``qdsega render`` through a subprocess: frames, formats and bad input."""
+
+import imageio.v3 as iio
+import numpy as np
+from helpers import run_cli
+
+SNAKE = "assemblies/snake5.yaml"
+
+
+def _postures(tmp_path):
+    file = tmp_path / "wave.csv"
+    file.write_text("# a short wave\n4,4,4,4\n0,8,0,8\n8,0,8,0\n")
+    return file
+
+
+def test_mp4_has_the_requested_frames_and_shows_the_robot(tmp_path):
+    out = tmp_path / "wave.mp4"
+    result = run_cli(
+        "render",
+        SNAKE,
+        "--postures",
+        _postures(tmp_path),
+        "-o",
+        out,
+        "--fps",
+        "10",
+        "--width",
+        "160",
+        "--height",
+        "120",
+    )
+    assert result.returncode == 0, result.stderr
+    assert "warning" not in result.stderr  # EGL loads here (Mesa llvmpipe, no GPU needed)
+    frames = np.stack(list(iio.imiter(out, plugin="FFMPEG")))
+    # 3 steps of 0.5 s at 10 fps, plus the first frame
+    assert frames.shape == (16, 120, 160, 3)
+    blue = (frames[..., 2] > 140) & (frames[..., 0] < 100)  # the servo units
+    assert blue.mean(axis=(1, 2)).min() > 0.002
+    assert frames.std() > 10  # not a blank picture
+
+
+def test_gif_on_request(tmp_path):
+    out = tmp_path / "wave.gif"
+    result = run_cli(
+        "render",
+        SNAKE,
+        "--postures",
+        _postures(tmp_path),
+        "-o",
+        out,
+        "--fps",
+        "4",
+        "--width",
+        "64",
+        "--height",
+        "48",
+    )
+    assert result.returncode == 0, result.stderr
+    frames = iio.imread(out)
+    # 7 frames are filmed; GIF writers merge identical neighbours (the snake at rest)
+    assert 2 <= len(frames) <= 7 and frames.shape[1:] == (48, 64, 3)
+
+
+def test_bad_input_is_one_line_and_leaves_no_file(tmp_path):
+    postures = _postures(tmp_path)
+    cases = [
+        (["render", SNAKE, "--postures", postures, "-o", tmp_path / "x.avi"], "must end in"),
+        (["render", SNAKE, "-o", tmp_path / "x.mp4"], "needs --postures"),
+        (["render", tmp_path / "no-run", "-o", tmp_path / "x.mp4"], "needs --postures"),
+        (["render", SNAKE, "--postures", SNAKE, "-o", tmp_path / "x.mp4"], "cannot read"),
+        (
+            ["render", SNAKE, "--postures", postures, "-o", tmp_path / "x.mp4", "--fps", "0"],
+            "fps must be",
+        ),
+    ]
+    for args, message in cases:
+        result = run_cli(*args)
+        assert result.returncode == 2, (args, result.stderr)
+        assert message in result.stderr and len(result.stderr.strip().splitlines()) == 1
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["wave.csv"]
