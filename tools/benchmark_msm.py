@@ -1,6 +1,6 @@
 """Benchmark: wall time of the full paper protocol in the MSM, and Q-learning steps per second.
 
-    taskset -c 0 .venv/bin/python tools/benchmark_msm.py [--seed 0] [--generations 200]
+    taskset -c 1 .venv/bin/python tools/benchmark_msm.py [--seed 0] [--generations 200]
 
 Runs legged12 with the paper-legged preset (200 generations x 10000 trials) in-process after
 one tiny warm-up run (so compiled code is loaded, as from the cache in later runs).

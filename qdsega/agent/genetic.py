@@ -34,6 +34,31 @@ def roulette(fitness: np.ndarray, count: int, rng: np.random.Generator) -> np.nd
     return np.minimum(np.searchsorted(cumulative, pointers, side="right"), len(fitness) - 1)
 
 
+def roulette_weights(
+    action_fitness: np.ndarray, action_of: np.ndarray, selection: str
+) -> np.ndarray:
+    """Each individual's share of the roulette wheel, shape (N,).
+
+    Args:
+        action_fitness: eq. (6) of each action (distinct phenotype), shape (A,).
+        action_of: the action each individual expresses, shape (N,).
+        selection: ``actions``: the wheel has one slot per action, as large as its fitness,
+            split evenly among its copies (an action is drawn with probability proportional
+            to its fitness, however many genes express it); ``individuals``: one slot per
+            individual, each as large as its action's fitness (an action with ``n`` copies
+            weighs ``n`` times its fitness).
+    """
+    action_fitness = np.asarray(action_fitness, dtype=np.float64)
+    action_of = np.asarray(action_of, dtype=np.int64)
+    weights = action_fitness[action_of]
+    if selection == "actions":
+        copies = np.bincount(action_of, minlength=len(action_fitness))
+        return weights / copies[action_of]
+    if selection == "individuals":
+        return weights
+    raise ValueError(f"selection must be actions or individuals, got {selection!r}")
+
+
 def uniform_crossover(
     a: np.ndarray, b: np.ndarray, rng: np.random.Generator
 ) -> tuple[np.ndarray, np.ndarray]:

@@ -1,8 +1,11 @@
 """QDSEGA's outer loop (Fig. 7): build the Q-table from the population, learn, rate, reproduce.
 
-Each generation starts from a zero Q-table: a new population is a new set of actions and
-states, and eq. (18)'s schedule restarts with it (the paper's 10000 trials per generation
-cool the temperature from 408 to below 1e-6, so each generation is a full learning run).
+Each generation's Q-table starts from the previous one's values where the interior posture
+and the action posture both persist, zeros elsewhere (``carry_q``; zeros everywhere without
+it), and eq. (18)'s schedule restarts with it: a new population is a new set of actions and
+states (the paper's 10000 trials per generation cool the temperature from 408 to below 1e-6,
+so each generation is a full learning run). Reproduction draws parents from a roulette wheel
+with one slot per action or per gene (``GeneticConfig.selection``).
 """
 
 from __future__ import annotations
@@ -17,7 +20,7 @@ import numpy as np
 from qdsega.agent.config import QDSEGAConfig
 from qdsega.agent.exterior import bin_edges_rad
 from qdsega.agent.fitness import fitness
-from qdsega.agent.genetic import random_population, reproduce
+from qdsega.agent.genetic import random_population, reproduce, roulette_weights
 from qdsega.agent.qlearning import greedy_on_table, learn_on_table
 from qdsega.agent.space import ExplorationSpace
 from qdsega.agent.world import TransitionProvider
@@ -108,9 +111,11 @@ class QDSEGA:
             generation = self.learn_generation(index)
             yield generation
             if index < generations:
-                individual_fitness = generation.fitness[generation.space.action_of]
+                weights = roulette_weights(
+                    generation.fitness, generation.space.action_of, self.config.genetic.selection
+                )
                 self.population = reproduce(
-                    self.population, individual_fitness, self.levels, self.config.genetic, self.rng
+                    self.population, weights, self.levels, self.config.genetic, self.rng
                 )
 
     def _initial_q(self, space: ExplorationSpace) -> np.ndarray:

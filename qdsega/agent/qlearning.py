@@ -20,7 +20,7 @@ import math
 import numpy as np
 from numba import njit
 
-from qdsega.agent.boltzmann import boltzmann_select, greedy, temperature
+from qdsega.agent.boltzmann import boltzmann_select_below, greedy, temperature
 from qdsega.agent.exterior import exterior_state
 
 
@@ -37,6 +37,15 @@ def _row_max(row: np.ndarray) -> float:
         if value > top:
             top = value
     return top
+
+
+@njit(cache=True)
+def _update_top(q: np.ndarray, s: int, old: float, new: float, row_top: np.ndarray) -> None:
+    """Keep ``row_top[s]`` = max Q(s, .) after one entry of row ``s`` went from old to new."""
+    if new >= row_top[s]:
+        row_top[s] = new
+    elif old >= row_top[s]:
+        row_top[s] = _row_max(q[s])
 
 
 @njit(cache=True)
@@ -83,6 +92,10 @@ def learn_on_table(
     """
     n_exterior = edges.shape[0]
     weights = np.empty(q.shape[1])
+    # max_a Q(s, a) of every row, kept up to date (eq. 1's max and the roulette's shift).
+    row_top = np.empty(q.shape[0])
+    for s in range(q.shape[0]):
+        row_top[s] = _row_max(q[s])
     light_x, light_y = light[0], light[1]
     d_start = math.hypot(light_x, light_y)
     steps = 0
@@ -97,11 +110,13 @@ def learn_on_table(
         fell[trial] = False
         for _ in range(trial_steps):
             s = interior * n_exterior + exterior
-            a = boltzmann_select(q[s], temp, rng.random(), weights)
+            a = boltzmann_select_below(q[s], row_top[s], temp, rng.random(), weights)
             uses[a] += 1
             steps += 1
+            old = q[s, a]
             if failed[interior, a]:
-                q[s, a] = (1.0 - alpha) * q[s, a] + alpha * penalty
+                q[s, a] = (1.0 - alpha) * old + alpha * penalty
+                _update_top(q, s, old, q[s, a], row_top)
                 fell[trial] = True
                 break
             c, sn = math.cos(theta), math.sin(theta)
@@ -111,8 +126,9 @@ def learn_on_table(
             d_new = math.hypot(light_x - x, light_y - y)
             interior = next_interior[a]
             exterior = exterior_state(x, y, theta, light_x, light_y, edges)
-            best_next = _row_max(q[interior * n_exterior + exterior])
-            q[s, a] = q_update(q[s, a], reward_scale * (d - d_new), best_next, alpha, gamma)
+            best_next = row_top[interior * n_exterior + exterior]
+            q[s, a] = q_update(old, reward_scale * (d - d_new), best_next, alpha, gamma)
+            _update_top(q, s, old, q[s, a], row_top)
             d = d_new
         distances[trial] = d_start - d
     return steps

@@ -41,7 +41,20 @@ def test_same_seed_same_result():
     assert not np.array_equal(next(other.run()).q, runs[0][0].q)
 
 
-def test_quadruped_learns_most_of_the_optimum_quickly():
-    learner, optimum = _learner(0, 15, 3000)
-    best = max(g.greedy_distance for g in learner.run())
-    assert best >= 0.8 * optimum
+def test_legged12_walks_near_the_optimum_on_a_reduced_budget():
+    """The paper's legged preset and MSM defaults, 36 of the 200 generations: seed 4 of the
+    reproduction has found its gait (0.968 of the optimum) by generation 28."""
+    formation = load_formation(ASSEMBLIES_DIR / "legged12.yaml")
+    world = MinimalSimulationModel(legs=LegLayout.from_formation(formation), params=MSMParameters())
+    config = with_budget(PRESETS["paper-legged"], generations=36)
+    learner = QDSEGA(
+        config=config,
+        levels=np.array([len(j.levels_rad) for j in formation.joints]),
+        world=world,
+        light_xy=formation.light.position_m,
+        rng=np.random.default_rng(4),
+    )
+    optimum = msm_optimum(world, steps=config.learning.trial_steps, light_xy=(50.0, 0.0))
+    *_, last = learner.run()
+    assert not last.greedy_fell
+    assert last.greedy_distance >= 0.95 * optimum.distance_m

@@ -12,6 +12,7 @@ from qdsega.agent.genetic import (
     random_population,
     reproduce,
     roulette,
+    roulette_weights,
     uniform_crossover,
 )
 from qdsega.agent.space import ExplorationSpace
@@ -70,3 +71,17 @@ def test_pair_crossover_rate():
 def test_random_population_covers_levels():
     pop = random_population(np.array([2, 9]), 5000, np.random.default_rng(0))
     assert pop[:, 0].max() == 1 and pop[:, 1].max() == 8 and pop.min() == 0
+
+
+def test_roulette_over_actions_or_individuals():
+    # Action 0 has 3 copies, action 1 one; fitness 1 and 2.
+    action_of = np.array([0, 0, 1, 0])
+    fit = np.array([1.0, 2.0])
+    per_action = roulette_weights(fit, action_of, "actions")
+    assert per_action.tolist() == pytest.approx([1 / 3, 1 / 3, 2.0, 1 / 3])
+    assert roulette_weights(fit, action_of, "individuals").tolist() == [1.0, 1.0, 2.0, 1.0]
+    # Over actions, action 1 is drawn 2/3 of the time however many copies action 0 has.
+    picks = action_of[roulette(per_action, 30000, np.random.default_rng(0))]
+    assert np.mean(picks == 1) == pytest.approx(2 / 3, abs=0.01)
+    with pytest.raises(ValueError, match="selection"):
+        roulette_weights(fit, action_of, "genes")

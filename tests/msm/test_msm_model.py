@@ -84,7 +84,7 @@ def test_built_from_any_legged_formation(name, per_side):
     legs = LegLayout.from_formation(formation)
     assert legs.legs_per_side() == (per_side, per_side)
     model = MinimalSimulationModel(legs=legs, params=MSMParameters())
-    assert model.legs.states(model.start_posture()).tolist() == [1] * 2 * per_side
+    assert model.legs.states(model.start_posture()).tolist() == [2] * 2 * per_side
 
 
 def test_a_snake_is_refused():
