@@ -23,7 +23,8 @@ from qdsega.agent.fitness import fitness
 from qdsega.agent.genetic import random_population, reproduce, roulette_weights
 from qdsega.agent.qlearning import greedy_on_table, learn_on_table
 from qdsega.agent.space import ExplorationSpace
-from qdsega.agent.world import TransitionProvider
+from qdsega.agent.world import TransitionProvider, World
+from qdsega.agent.world_loop import greedy_on_world, learn_on_world
 
 
 @dataclass(frozen=True)
@@ -74,7 +75,8 @@ class QDSEGA:
     Args:
         config: every hyperparameter.
         levels: level count of each gene character (actuated joint), shape (J,).
-        world: the transition table provider.
+        world: a transition table (learning runs compiled) or a step-by-step world such as
+            exact physics (the same algorithm in Python, :mod:`qdsega.agent.world_loop`).
         light_xy: light position (m); trials start at the origin heading +x.
         rng: the only source of randomness.
     """
@@ -84,7 +86,7 @@ class QDSEGA:
         *,
         config: QDSEGAConfig,
         levels: np.ndarray,
-        world: TransitionProvider,
+        world: TransitionProvider | World,
         light_xy: tuple[float, float],
         rng: np.random.Generator,
     ) -> None:
@@ -139,40 +141,21 @@ class QDSEGA:
         start = time.perf_counter()
         learning, fit = self.config.learning, self.config.fitness
         space = ExplorationSpace.from_population(self.population, self.world.start_posture())
-        table = self.world.transitions(space.postures, space.actions)
-        dx, dy, dtheta = (
-            np.ascontiguousarray(a, dtype=np.float64) for a in (table.dx, table.dy, table.dtheta)
-        )
-        failed = np.ascontiguousarray(table.failed, dtype=np.bool_)
         q = self._initial_q(space)
         uses = np.zeros(space.n_actions, dtype=np.int64)
         distances = np.zeros(learning.trials)
         fell = np.zeros(learning.trials, dtype=np.bool_)
-        schedule = np.array(
-            [learning.temperature_scale, learning.temperature_rate, learning.temperature_offset]
-        )
-        common = (dx, dy, dtheta, failed, space.next_interior, self.light, self.edges)
-        steps = learn_on_table(
-            q,
-            *common,
-            learning.trials,
-            learning.trial_steps,
-            learning.alpha,
-            learning.gamma,
-            schedule,
-            learning.reward_scale,
-            learning.penalty,
-            self.rng,
-            uses,
-            distances,
-            fell,
-        )
         poses = np.zeros((learning.trial_steps + 1, 3))
         actions = np.zeros(learning.trial_steps, dtype=np.int64)
-        greedy_fell = greedy_on_table(q, *common, learning.trial_steps, poses, actions)
+        if isinstance(self.world, World):
+            steps, greedy_fell, greedy_distance = self._learn_in_world(
+                space, q, uses, distances, fell, poses, actions
+            )
+        else:
+            steps, greedy_fell, greedy_distance = self._learn_on_table(
+                space, q, uses, distances, fell, poses, actions
+            )
         self._previous = (space, q)
-        lx, ly = self.light
-        greedy_distance = math.hypot(lx, ly) - math.hypot(lx - poses[-1, 0], ly - poses[-1, 1])
         return Generation(
             index=index,
             space=space,
@@ -188,6 +171,91 @@ class QDSEGA:
             greedy_distance=greedy_distance,
             wall_s=time.perf_counter() - start,
         )
+
+    def _schedule(self) -> np.ndarray:
+        learning = self.config.learning
+        return np.array(
+            [learning.temperature_scale, learning.temperature_rate, learning.temperature_offset]
+        )
+
+    def _learn_on_table(
+        self,
+        space: ExplorationSpace,
+        q: np.ndarray,
+        uses: np.ndarray,
+        distances: np.ndarray,
+        fell: np.ndarray,
+        poses: np.ndarray,
+        actions: np.ndarray,
+    ) -> tuple[int, bool, float]:
+        """Compiled learning and greedy trial on the world's transition table."""
+        learning = self.config.learning
+        table = self.world.transitions(space.postures, space.actions)  # type: ignore[union-attr]
+        dx, dy, dtheta = (
+            np.ascontiguousarray(a, dtype=np.float64) for a in (table.dx, table.dy, table.dtheta)
+        )
+        failed = np.ascontiguousarray(table.failed, dtype=np.bool_)
+        common = (dx, dy, dtheta, failed, space.next_interior, self.light, self.edges)
+        steps = learn_on_table(
+            q,
+            *common,
+            learning.trials,
+            learning.trial_steps,
+            learning.alpha,
+            learning.gamma,
+            self._schedule(),
+            learning.reward_scale,
+            learning.penalty,
+            self.rng,
+            uses,
+            distances,
+            fell,
+        )
+        greedy_fell = greedy_on_table(q, *common, learning.trial_steps, poses, actions)
+        lx, ly = self.light
+        greedy_distance = math.hypot(lx, ly) - math.hypot(lx - poses[-1, 0], ly - poses[-1, 1])
+        return int(steps), bool(greedy_fell), greedy_distance
+
+    def _learn_in_world(
+        self,
+        space: ExplorationSpace,
+        q: np.ndarray,
+        uses: np.ndarray,
+        distances: np.ndarray,
+        fell: np.ndarray,
+        poses: np.ndarray,
+        actions: np.ndarray,
+    ) -> tuple[int, bool, float]:
+        """The same learning and greedy trial, every command sent to a step-by-step world."""
+        learning = self.config.learning
+        world: World = self.world  # type: ignore[assignment]
+        steps = learn_on_world(
+            q,
+            world,
+            space.actions,
+            space.next_interior,
+            n_exterior=self.n_exterior,
+            trials=learning.trials,
+            trial_steps=learning.trial_steps,
+            alpha=learning.alpha,
+            gamma=learning.gamma,
+            temperature_params=self._schedule(),
+            rng=self.rng,
+            uses=uses,
+            distances=distances,
+            fell=fell,
+        )
+        greedy_fell = greedy_on_world(
+            q,
+            world,
+            space.actions,
+            space.next_interior,
+            n_exterior=self.n_exterior,
+            trial_steps=learning.trial_steps,
+            poses=poses,
+            taken=actions,
+        )
+        return steps, greedy_fell, world.distance_covered()
 
 
 def _match(postures: np.ndarray, old: np.ndarray) -> np.ndarray:

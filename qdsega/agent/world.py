@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Protocol
+from typing import Protocol, runtime_checkable
 
 import numpy as np
 
@@ -76,6 +76,7 @@ class StepResult:
     failed: bool
 
 
+@runtime_checkable
 class World(Protocol):
     """A step-by-step world: one trial at a time, one commanded posture at a time."""
 

@@ -20,8 +20,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "--sim",
         choices=SIMULATORS,
         default="msm",
-        help="world: msm (Minimal Simulation Model, legged only) or memo (PyBullet "
-        "transitions measured once each); default msm",
+        help="world: msm (Minimal Simulation Model, legged only), memo (PyBullet "
+        "transitions measured once each) or pybullet (every step simulated); default msm",
     )
     parser.add_argument(
         "--workers", type=int, metavar="N", help="processes measuring memo transitions"

@@ -28,7 +28,7 @@ from qdsega.locomotion.lower_agent import LowerAgentConfig
 from qdsega.msm import MSMParameters
 from qdsega.simulation import PhysicsSettings
 
-SIMULATORS = ("msm", "memo")
+SIMULATORS = ("msm", "memo", "pybullet")
 """Worlds ``qdsega train`` can learn in (:mod:`qdsega.training.worlds`)."""
 
 
@@ -39,8 +39,8 @@ class TrainingConfig:
     Attributes:
         preset: the preset the run started from (``paper-legged`` or ``paper-snake``).
         seed: seed of the run's only random generator.
-        sim: the world: ``msm`` (the Minimal Simulation Model of section 4.1.2) or ``memo``
-            (PyBullet transitions measured once each).
+        sim: the world: ``msm`` (the Minimal Simulation Model of section 4.1.2), ``memo``
+            (PyBullet transitions measured once each) or ``pybullet`` (exact physics).
         light_bearing_deg: put the light at this bearing (deg, counter-clockwise from the
             initial heading), at the formation's distance; None keeps the formation's light.
         agent: the learner's hyperparameters.

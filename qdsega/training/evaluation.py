@@ -29,9 +29,10 @@ import yaml
 from qdsega.description import Formation
 from qdsega.errors import FormationError
 from qdsega.locomotion import reference_gaits
-from qdsega.locomotion.env import LocomotionEnv, TaskConfig
+from qdsega.locomotion.env import LocomotionEnv
 from qdsega.training.config import TrainingConfig, resolve_config
 from qdsega.training.run import prepare_formation
+from qdsega.training.worlds import task_of
 
 EVALUATION_FILE = "evaluation.json"
 
@@ -67,18 +68,6 @@ def evaluate_run(run: Path | str) -> dict[str, Any]:
         result["wave"] = wave_of(formation, np.array(learned["postures"]))
     (run / EVALUATION_FILE).write_text(json.dumps(result, indent=2) + "\n", encoding="utf-8")
     return result
-
-
-def task_of(config: TrainingConfig) -> TaskConfig:
-    """The PyBullet task with the learner's trial length, reward, penalty and exterior bins."""
-    learning = config.agent.learning
-    return TaskConfig(
-        trial_steps=learning.trial_steps,
-        reward_scale=learning.reward_scale,
-        penalty=learning.penalty,
-        exterior_bin_edges_deg=learning.exterior_bin_edges_deg,
-        lower_agent=config.lower_agent,
-    )
 
 
 def replay_policy(env: LocomotionEnv, policy: dict[str, np.ndarray]) -> dict[str, Any]:

@@ -14,8 +14,9 @@ from qdsega.rendering.camera import CameraConfig
 from qdsega.rendering.recorder import Film, record
 from qdsega.rendering.video import VIDEO_SUFFIXES, write_video
 from qdsega.simulation import PhysicsSettings
-from qdsega.training.evaluation import EVALUATION_FILE, load_run, replay_policy, task_of
+from qdsega.training.evaluation import EVALUATION_FILE, load_run, replay_policy
 from qdsega.training.run import prepare_formation
+from qdsega.training.worlds import task_of
 
 
 def render_run(run: Path, out: Path, camera: CameraConfig) -> Film:

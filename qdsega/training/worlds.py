@@ -4,20 +4,27 @@
   optimum as the oracle.
 * ``memo``: PyBullet posture-to-posture transitions, each measured once and kept in the run
   folder (``transitions.npz``), filled on demand by worker processes
-  (:mod:`qdsega.locomotion.memo`).
+  (:mod:`qdsega.locomotion.memo`);
+* ``pybullet``: exact physics, every upper-agent step simulated
+  (:class:`qdsega.locomotion.env_world.EnvWorld`); the learner then runs in Python, so only
+  small budgets are affordable.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
-from qdsega.agent.world import TransitionProvider
+from qdsega.agent.world import TransitionProvider, World
 from qdsega.description import Formation
 from qdsega.msm import LegLayout, MinimalSimulationModel, Optimum, msm_optimum
 from qdsega.training.config import TrainingConfig
+
+if TYPE_CHECKING:
+    from qdsega.locomotion.env import TaskConfig
 
 MEMO_FILE = "transitions.npz"
 """The memo table in a run folder."""
@@ -28,12 +35,13 @@ class TrainingWorld:
     """A world and what the run needs to know about it.
 
     Attributes:
-        provider: the posture-transition table the learner runs on.
+        provider: the world the learner runs in: a posture-transition table, or a
+            step-by-step world (exact physics).
         optimum: the exact optimum where one is known (the MSM), else None.
         layout: the legs, for gait figures; None for a legless formation.
     """
 
-    provider: TransitionProvider
+    provider: TransitionProvider | World
     optimum: Optimum | None
     layout: LegLayout | None
 
@@ -62,7 +70,14 @@ def build_world(formation: Formation, config: TrainingConfig, run: Path) -> Trai
         return TrainingWorld(
             model, msm_optimum(model, steps=steps, light_xy=light_of(formation)), layout
         )
-    from qdsega.locomotion.memo import MeasuredTransitions  # starts PyBullet: only when needed
+    layout = LegLayout.from_formation(formation) if formation.legs else None
+    if config.sim == "pybullet":
+        from qdsega.locomotion.env import LocomotionEnv  # starts PyBullet: only when needed
+        from qdsega.locomotion.env_world import EnvWorld
+
+        env = LocomotionEnv(formation=formation, task=task_of(config), physics=config.physics)
+        return TrainingWorld(EnvWorld(env=env), None, layout)
+    from qdsega.locomotion.memo import MeasuredTransitions
 
     provider = MeasuredTransitions(
         formation=formation,
@@ -72,8 +87,21 @@ def build_world(formation: Formation, config: TrainingConfig, run: Path) -> Trai
     )
     if (run / MEMO_FILE).is_file():
         provider.load(run / MEMO_FILE)
-    layout = LegLayout.from_formation(formation) if formation.legs else None
     return TrainingWorld(provider, None, layout)
+
+
+def task_of(config: TrainingConfig) -> TaskConfig:
+    """The PyBullet task with the learner's trial length, reward, penalty and exterior bins."""
+    from qdsega.locomotion.env import TaskConfig
+
+    learning = config.agent.learning
+    return TaskConfig(
+        trial_steps=learning.trial_steps,
+        reward_scale=learning.reward_scale,
+        penalty=learning.penalty,
+        exterior_bin_edges_deg=learning.exterior_bin_edges_deg,
+        lower_agent=config.lower_agent,
+    )
 
 
 def light_of(formation: Formation) -> tuple[float, float]:

@@ -60,3 +60,30 @@ def test_evaluate_refuses_a_missing_or_corrupt_run(tmp_path):
     assert result.returncode == 2
     assert "corrupt run folder" in result.stderr
     assert len(result.stderr.strip().splitlines()) == 1
+
+
+def test_exact_mode_trains_with_every_step_in_pybullet(tmp_path):
+    config = tmp_path / "tiny.yaml"
+    config.write_text(
+        "agent:\n"
+        "  learning: {trials: 3, trial_steps: 3}\n"
+        "  genetic: {population: 4, generations: 2}\n"
+    )
+    run = tmp_path / "run"
+    result = run_cli(
+        "train",
+        "assemblies/quadruped.yaml",
+        "--sim",
+        "pybullet",
+        "--config",
+        config,
+        "--out",
+        run,
+        "--quiet",
+    )
+    assert result.returncode == 0, result.stderr
+    summary = json.loads((run / "summary.json").read_text())
+    assert summary["sim"] == "pybullet" and summary["env_steps"] >= 2 * 3
+    assert not (run / "transitions.npz").exists()
+    with np.load(run / "trajectories.npz") as data:
+        assert data["gait_legs"].shape[1] == 4  # the quadruped's legs

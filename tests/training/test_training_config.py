@@ -43,7 +43,7 @@ def test_yaml_then_flags_override(tmp_path):
         ("agent: {fitness: {kf: 1}}", "unknown key"),
         ("agent: {learning: {alpha: 2.0}}", "alpha"),
         ("seed: one", "integer"),
-        ("sim: pybullet", "sim must be"),
+        ("sim: gazebo", "sim must be"),
     ],
 )
 def test_bad_overrides(tmp_path, text, message):
