@@ -2,8 +2,9 @@
 
 Usage: .venv/bin/python tools/benchmark_assembly.py [--seconds 5]
 
-Stepping is measured with every joint driven by a square wave between its first two levels
-(1 s period), the formation's own friction and the default PhysicsSettings.
+Stepping is measured while the formation walks its default scripted gait (the wave gait for
+legged bodies, a serpenoid wave for snakes; a new posture every 0.5 s at 1.5 rad/s), with its
+own friction and the default PhysicsSettings.
 """
 
 from __future__ import annotations
@@ -12,11 +13,10 @@ import argparse
 import statistics
 import time
 
-import numpy as np
-
 from qdsega import ASSEMBLIES_DIR
 from qdsega.assembly import assemble
 from qdsega.description import load_formation
+from qdsega.locomotion import reference_gaits
 from qdsega.simulation import PhysicsSettings
 from qdsega.simulation.bullet import BulletSimulation
 
@@ -36,17 +36,14 @@ def main() -> None:
             robot = assemble(formation)
             times.append(1000 * (time.perf_counter() - start))
         with BulletSimulation(robot=robot, settings=settings) as sim:
-            rest = np.array(formation.posture_rad(formation.rest_levels()))
-            other = np.array(
-                [j.levels_rad[min(1, len(j.levels_rad) - 1)] for j in formation.joints]
-            )
-            sim.reset(rest)
+            sim.reset(formation.posture_rad(formation.rest_levels()))
+            period = round(0.5 / settings.time_step_s)
             steps = round(args.seconds / settings.time_step_s)
-            half_period = round(0.5 / settings.time_step_s)
+            gait = reference_gaits.default_gait(formation, steps=steps // period + 1)
             start = time.perf_counter()
             for k in range(steps):
-                if k % half_period == 0:
-                    sim.command(other if (k // half_period) % 2 else rest)
+                if k % period == 0:
+                    sim.command(formation.posture_rad(gait[k // period]), speed_rad_s=1.5)
                 sim.step()
             rate = steps / (time.perf_counter() - start)
         median = statistics.median(times)

@@ -17,24 +17,10 @@ import time
 
 from qdsega import ASSEMBLIES_DIR
 from qdsega.assembly import assemble
-from qdsega.description import Formation, load_formation
+from qdsega.description import load_formation
 from qdsega.locomotion import reference_gaits
 from qdsega.locomotion.env import LocomotionEnv, TaskConfig
 from qdsega.simulation.bullet import BulletSimulation
-
-
-def gait(formation: Formation, steps: int) -> list:
-    if formation.legs:
-        return list(reference_gaits.leg_gait(formation, gait="wave", steps=steps))
-    return list(
-        reference_gaits.serpenoid(
-            formation,
-            amplitude_rad=math.radians(20),
-            phase_lag_rad=math.radians(60),
-            steps_per_cycle=4,
-            steps=steps,
-        )
-    )
 
 
 def main() -> None:
@@ -50,7 +36,7 @@ def main() -> None:
     for name in args.formations:
         formation = load_formation(ASSEMBLIES_DIR / f"{name}.yaml")
         task = TaskConfig(trial_steps=args.steps)
-        postures = gait(formation, args.steps)
+        postures = reference_gaits.default_gait(formation, steps=args.steps)
         env = LocomotionEnv(formation=formation, task=task)
         physics_per_step = env.lower_agent.physics_steps
         speed = task.lower_agent.joint_speed_rad_s

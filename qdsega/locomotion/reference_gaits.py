@@ -107,3 +107,17 @@ def _phases(formation: Formation, gait: str) -> dict[str, int]:
             else:
                 raise ValueError(f"unknown gait {gait!r}; choose from {', '.join(LEG_GAITS)}")
     return phases
+
+
+def default_gait(formation: Formation, *, steps: int) -> np.ndarray:
+    """A sensible scripted gait for any formation, shape (steps, J): the wave gait for a legged
+    body, else a serpenoid wave (20 deg, 60 deg lag, 4 steps a cycle, capped at the levels)."""
+    if formation.legs:
+        return leg_gait(formation, gait="wave", steps=steps)
+    return serpenoid(
+        formation,
+        amplitude_rad=math.radians(20),
+        phase_lag_rad=math.radians(60),
+        steps_per_cycle=4,
+        steps=steps,
+    )
