@@ -97,8 +97,9 @@ class LowerAgent:
         config.check_formation(self.formation)
         self.estimator = BodyPoseEstimator(formation=self.formation)
         self.physics_steps = max(1, round(config.step_duration_s / sim.settings.time_step_s))
-        leg_units = {name for leg in self.formation.legs for name in leg.units}
-        self._trunk_names = {u.name for u in self.formation.trunk_units} if leg_units else set()
+        # Only a legged body's trunk must stay off the ground; a snake's trunk is all of it.
+        legged = bool(self.formation.legs)
+        self._trunk_names = {u.name for u in self.formation.trunk_units} if legged else set()
 
     def pose(self) -> BodyPose:
         """The body's pose now."""
