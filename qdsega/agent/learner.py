@@ -10,10 +10,12 @@ with one slot per action or per gene (``GeneticConfig.selection``).
 
 from __future__ import annotations
 
+import copy
 import math
 import time
 from collections.abc import Iterator
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -63,10 +65,39 @@ class Generation:
 
     def greedy_postures(self) -> np.ndarray:
         """The greedy trial's postures, initial one first, until it ends, shape (k + 1, J)."""
-        taken = self.greedy_actions[self.greedy_actions >= 0]
-        if self.greedy_fell:
-            taken = taken[:-1]
-        return np.vstack([self.space.postures[:1], self.space.actions[taken]])
+        return greedy_postures(self.space, self.greedy_actions, self.greedy_fell)
+
+
+def greedy_postures(space: ExplorationSpace, taken: np.ndarray, fell: bool) -> np.ndarray:
+    """The postures a greedy trial went through, initial one first, shape (k + 1, J).
+
+    Args:
+        space: the generation's space.
+        taken: the trial's action per step, -1 after a fall, shape (steps,).
+        fell: whether the trial ended in a fall (its last command failed: not reached).
+    """
+    taken = taken[taken >= 0]
+    if fell:
+        taken = taken[:-1]
+    return np.vstack([space.postures[:1], space.actions[taken]])
+
+
+@dataclass(frozen=True)
+class LearnerState:
+    """Where a learner stands between two generations: enough to continue exactly.
+
+    Attributes:
+        completed: generations learnt.
+        population: the population the next generation learns over, shape (N, J).
+        rng_state: the random generator's ``bit_generator.state`` (plain dict, JSON-safe).
+        previous: the last generation's space and Q-table (``carry_q`` starts from it), or
+            None before the first generation.
+    """
+
+    completed: int
+    population: np.ndarray
+    rng_state: dict[str, Any]
+    previous: tuple[ExplorationSpace, np.ndarray] | None
 
 
 class QDSEGA:
@@ -100,6 +131,8 @@ class QDSEGA:
         self.rng = rng
         self.edges = bin_edges_rad(config.learning.exterior_bin_edges_deg)
         self.population = random_population(levels, config.genetic.population, rng)
+        self.completed = 0
+        """Generations learnt so far."""
         self._previous: tuple[ExplorationSpace, np.ndarray] | None = None
 
     @property
@@ -107,18 +140,57 @@ class QDSEGA:
         return len(self.edges)
 
     def run(self) -> Iterator[Generation]:
-        """Yield every generation in turn; the population advances between them."""
-        generations = self.config.genetic.generations
-        for index in range(1, generations + 1):
-            generation = self.learn_generation(index)
-            yield generation
-            if index < generations:
-                weights = roulette_weights(
-                    generation.fitness, generation.space.action_of, self.config.genetic.selection
-                )
-                self.population = reproduce(
-                    self.population, weights, self.levels, self.config.genetic, self.rng
-                )
+        """Yield every remaining generation in turn (see :meth:`step`)."""
+        while self.completed < self.config.genetic.generations:
+            yield self.step()
+
+    def step(self) -> Generation:
+        """Learn the next generation, then (unless it was the last) reproduce the population,
+        so that :meth:`state` afterwards is where the following generation starts."""
+        generation = self._learn_generation(self.completed + 1)
+        self.completed += 1
+        if self.completed < self.config.genetic.generations:
+            weights = roulette_weights(
+                generation.fitness, generation.space.action_of, self.config.genetic.selection
+            )
+            self.population = reproduce(
+                self.population, weights, self.levels, self.config.genetic, self.rng
+            )
+        return generation
+
+    def state(self) -> LearnerState:
+        """A copy of everything the rest of the run depends on."""
+        previous = None
+        if self._previous is not None:
+            space, q = self._previous
+            previous = (space, q.copy())
+        return LearnerState(
+            completed=self.completed,
+            population=self.population.copy(),
+            rng_state=copy.deepcopy(self.rng.bit_generator.state),
+            previous=previous,
+        )
+
+    def restore(self, state: LearnerState) -> None:
+        """Continue from ``state`` (of a learner with the same configuration and levels): the
+        generations that follow are those an uninterrupted run would have learnt."""
+        if state.population.shape != self.population.shape:
+            raise ValueError(
+                f"state population {state.population.shape} does not fit this learner's "
+                f"{self.population.shape}"
+            )
+        if not 0 <= state.completed <= self.config.genetic.generations:
+            raise ValueError(
+                f"state completed {state.completed} generations of "
+                f"{self.config.genetic.generations}"
+            )
+        self.completed = state.completed
+        self.population = state.population.copy()
+        self.rng.bit_generator.state = copy.deepcopy(state.rng_state)
+        self._previous = None
+        if state.previous is not None:
+            space, q = state.previous
+            self._previous = (space, q.copy())
 
     def _initial_q(self, space: ExplorationSpace) -> np.ndarray:
         """Zeros, or with ``carry_q`` the previous generation's values where the interior
@@ -136,7 +208,7 @@ class QDSEGA:
             ]
         return q.reshape(space.n_interior * n_exterior, space.n_actions)
 
-    def learn_generation(self, index: int) -> Generation:
+    def _learn_generation(self, index: int) -> Generation:
         """Q-learning over the current population's space, then fitness of its actions."""
         start = time.perf_counter()
         learning, fit = self.config.learning, self.config.fitness

@@ -3,19 +3,30 @@
 from __future__ import annotations
 
 import argparse
-import sys
+import shutil
+from functools import partial
 from pathlib import Path
 
 from qdsega.agent.config import PRESETS
+from qdsega.errors import FormationError
 from qdsega.training.config import SIMULATORS, resolve_config
-from qdsega.training.run import budget_overrides, train
+from qdsega.training.progress import ProgressDisplay
+from qdsega.training.run import TrainingInterrupted, budget_overrides, resume, train
 
 NAME = "train"
-HELP = "learn locomotion with QDSEGA and write a run folder"
+HELP = "learn locomotion with QDSEGA and write a run folder (or continue one with --resume)"
+RUNS_DIR = Path("runs")
+"""Where run folders go when --out is not given."""
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("formation", type=Path, metavar="FORMATION.yaml")
+    parser.add_argument("formation", type=Path, nargs="?", metavar="FORMATION.yaml")
+    parser.add_argument(
+        "--resume",
+        type=Path,
+        metavar="RUN",
+        help="continue a stopped run from its last finished generation (no other options)",
+    )
     parser.add_argument(
         "--sim",
         choices=SIMULATORS,
@@ -26,33 +37,64 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--workers", type=int, metavar="N", help="processes measuring memo transitions"
     )
-    parser.add_argument("--preset", choices=sorted(PRESETS), default="paper-legged")
+    parser.add_argument("--preset", default="paper-legged", help=f"one of {', '.join(PRESETS)}")
     parser.add_argument("--config", type=Path, metavar="FILE.yaml", help="overrides (YAML)")
     parser.add_argument("--seed", type=int, help="random seed (default: the config's, 0)")
-    parser.add_argument("--out", type=Path, default=Path("runs/latest"), metavar="RUN")
+    parser.add_argument(
+        "--out", type=Path, metavar="RUN", help="run folder (default runs/FORMATION-SIM-seedS)"
+    )
+    parser.add_argument(
+        "--overwrite", action="store_true", help="delete an existing run folder --out first"
+    )
     parser.add_argument("--generations", type=int, metavar="N", help="generations to run")
     parser.add_argument("--trials", type=int, metavar="N", help="trials per generation")
     parser.add_argument(
         "--light-bearing-deg", type=float, metavar="D", help="move the light to this bearing"
     )
-    parser.add_argument("--quiet", action="store_true", help="no per-generation lines")
+    parser.add_argument("--quiet", action="store_true", help="no progress display")
 
 
 def run(args: argparse.Namespace) -> int:
+    progress = None if args.quiet else ProgressDisplay()
+    if args.resume is not None:
+        if args.formation is not None:
+            raise FormationError("--resume takes the run folder alone, not a formation")
+        out = args.resume
+        start = partial(resume, out, progress=progress)
+    else:
+        if args.formation is None:
+            raise FormationError("give a FORMATION.yaml to train, or --resume RUN")
+        config = resolve_config(preset=args.preset, file=args.config, overrides=_overrides(args))
+        out = args.out or RUNS_DIR / f"{args.formation.stem}-{config.sim}-seed{config.seed}"
+        if args.overwrite and out.is_dir():
+            shutil.rmtree(out)
+        start = partial(train, args.formation, config, out, progress=progress)
+    try:
+        summary = start()
+    except TrainingInterrupted as stop:
+        print(
+            f"qdsega train: interrupted; generation {stop.completed} is saved, continue with: "
+            f"qdsega train --resume {stop.run}"
+        )
+        return 130
+    finally:
+        if progress is not None:
+            progress.close()
+    oracle = ""
+    if summary["optimum"] is not None:
+        oracle = f", optimum {summary['optimum']:.4f} m ({summary['greedy_over_optimum']:.3f})"
+    print(
+        f"{summary['formation']}: greedy {summary['greedy_distance']:.4f} m{oracle}, "
+        f"{summary['env_steps']} steps in {summary['wall_s']:.1f} s -> {out}"
+    )
+    return 0
+
+
+def _overrides(args: argparse.Namespace) -> dict[str, object]:
     overrides = budget_overrides(generations=args.generations, trials=args.trials, seed=args.seed)
     overrides["sim"] = args.sim
     if args.workers is not None:
         overrides["workers"] = args.workers
     if args.light_bearing_deg is not None:
         overrides["light_bearing_deg"] = args.light_bearing_deg
-    config = resolve_config(preset=args.preset, file=args.config, overrides=overrides)
-    log = None if args.quiet else (lambda line: print(line, file=sys.stderr))
-    summary = train(args.formation, config, args.out, log=log)
-    oracle = ""
-    if summary["optimum"] is not None:
-        oracle = f", optimum {summary['optimum']:.4f} m ({summary['greedy_over_optimum']:.3f})"
-    print(
-        f"{summary['formation']}: greedy {summary['greedy_distance']:.4f} m{oracle}, "
-        f"{summary['env_steps']} steps in {summary['wall_s']:.1f} s -> {args.out}"
-    )
-    return 0
+    return overrides

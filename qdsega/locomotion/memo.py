@@ -20,6 +20,7 @@ from __future__ import annotations
 import math
 import multiprocessing
 import os
+import signal
 from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 
@@ -118,7 +119,7 @@ class MeasuredTransitions:
 
     def close(self) -> None:
         if self._pool is not None:
-            self._pool.shutdown()
+            self._pool.shutdown(cancel_futures=True)
             self._pool = None
 
     def _fill(self, sources: np.ndarray, targets: np.ndarray) -> None:
@@ -137,7 +138,7 @@ class MeasuredTransitions:
             if self._pool is None:
                 context = multiprocessing.get_context("spawn")
                 self._pool = ProcessPoolExecutor(
-                    self.workers, mp_context=context, initializer=_init_worker, initargs=args
+                    self.workers, mp_context=context, initializer=_init_pool_worker, initargs=args
                 )
             results = list(self._pool.map(_measure_from, *zip(*jobs, strict=True)))
         for (source, missing), rows in zip(jobs, results, strict=True):
@@ -173,6 +174,14 @@ def _init_worker(
     global _bench
     if _bench is None or _bench.formation is not formation:
         _bench = _Bench(formation, lower_agent, physics)
+
+
+def _init_pool_worker(
+    formation: Formation, lower_agent: LowerAgentConfig, physics: PhysicsSettings
+) -> None:
+    """A worker process leaves Ctrl-C to its parent, which stops the pool."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    _init_worker(formation, lower_agent, physics)
 
 
 def _measure_from(source: np.ndarray, targets: np.ndarray) -> np.ndarray:

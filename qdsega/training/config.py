@@ -96,6 +96,24 @@ def resolve_config(
     return config
 
 
+def read_run_config(run: Path) -> TrainingConfig:
+    """The configuration a run folder was trained with (its ``config.yaml``).
+
+    Raises:
+        FormationError: no config.yaml, or one that is not a configuration.
+    """
+    file = run / "config.yaml"
+    if not file.is_file():
+        raise FormationError("not a run folder (no config.yaml)", file=run)
+    try:
+        data = yaml.safe_load(file.read_text(encoding="utf-8"))
+    except (OSError, yaml.YAMLError) as exc:
+        raise FormationError(f"corrupt config.yaml ({exc})", file=run) from None
+    if not isinstance(data, dict) or "preset" not in data:
+        raise FormationError("corrupt run folder (config.yaml is not a configuration)", file=run)
+    return resolve_config(preset=data["preset"], file=file)
+
+
 def _merge(instance: Any, data: Any, path: str, file: Path | None) -> Any:
     if not isinstance(data, dict):
         raise FormationError("expected a mapping", file=file, key_path=path or None)

@@ -20,17 +20,17 @@ from __future__ import annotations
 
 import json
 import math
+import zipfile
 from pathlib import Path
 from typing import Any
 
 import numpy as np
-import yaml
 
 from qdsega.description import Formation
 from qdsega.errors import FormationError
 from qdsega.locomotion import reference_gaits
 from qdsega.locomotion.env import LocomotionEnv
-from qdsega.training.config import TrainingConfig, resolve_config
+from qdsega.training.config import TrainingConfig, read_run_config
 from qdsega.training.run import prepare_formation
 from qdsega.training.worlds import task_of
 
@@ -174,15 +174,14 @@ def load_run(run: Path) -> tuple[dict[str, Any], TrainingConfig, dict[str, np.nd
     for name, file in files.items():
         if not file.is_file():
             raise FormationError(f"not a finished run folder (no {name})", file=run)
+    config = read_run_config(run)
     try:
         summary = json.loads(files["summary.json"].read_text(encoding="utf-8"))
-        data = yaml.safe_load(files["config.yaml"].read_text(encoding="utf-8"))
         with np.load(files["policy.npz"]) as stored:
             policy = {key: stored[key] for key in ("q", "actions", "postures", "next_interior")}
-    except (OSError, ValueError, KeyError, yaml.YAMLError) as exc:
+    except (OSError, ValueError, KeyError, zipfile.BadZipFile) as exc:
         message = f"corrupt run folder ({exc.__class__.__name__}: {exc})"
         raise FormationError(message, file=run) from None
-    if not isinstance(data, dict) or "preset" not in data:
-        raise FormationError("corrupt run folder (config.yaml is not a configuration)", file=run)
-    config = resolve_config(preset=data["preset"], file=files["config.yaml"])
+    if not isinstance(summary, dict) or "formation_file" not in summary:
+        raise FormationError("corrupt run folder (summary.json is not a summary)", file=run)
     return summary, config, policy

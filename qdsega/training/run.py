@@ -3,8 +3,11 @@
 The run folder holds:
 
 * ``config.yaml``: the fully resolved :class:`~qdsega.training.config.TrainingConfig`;
-* ``metrics.csv``: one row per generation (see :data:`METRIC_COLUMNS`);
-* ``summary.json``: the outcome (greedy distance, exact optimum, budget, wall time, seed);
+* ``checkpoint.npz``: where the run stands after its last finished generation
+  (:mod:`qdsega.training.checkpoint`); ``qdsega train --resume RUN`` continues from it;
+* ``metrics.csv``: one row per finished generation (see :data:`METRIC_COLUMNS`);
+* ``summary.json`` (written last: its presence means the run is finished): the outcome
+  (greedy distance, exact optimum, budget, wall time, seed);
   ``optimum`` is the straight-walk optimum of :func:`qdsega.msm.msm_optimum`, exact
   (``optimum_exact``) for a light straight ahead, an upper reference otherwise; null in
   PyBullet worlds (``qdsega evaluate`` measures a reference gait there);
@@ -23,22 +26,27 @@ from __future__ import annotations
 import csv
 import json
 import math
+import os
 import time
-from collections.abc import Callable
+from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import Any, Protocol
 
 import numpy as np
 import yaml
 
-from qdsega.agent.learner import QDSEGA
+from qdsega.agent.learner import QDSEGA, Generation, greedy_postures
 from qdsega.description import Formation, Light, load_formation
-from qdsega.training.config import TrainingConfig
+from qdsega.errors import FormationError
+from qdsega.training.checkpoint import Checkpoint, load_checkpoint, save_checkpoint
+from qdsega.training.config import TrainingConfig, read_run_config
 from qdsega.training.worlds import TrainingWorld, build_world, leg_states, light_of
 
 METRIC_COLUMNS = (
     "generation",
     "actions",
+    "interior_states",
+    "q_entries",
     "best_distance_m",
     "mean_distance_m",
     "greedy_distance_m",
@@ -46,8 +54,56 @@ METRIC_COLUMNS = (
     "steps",
     "wall_s",
 )
-"""metrics.csv: Q-table actions, best and mean trial distance toward the light, the greedy
-policy's distance, trials that ended in a fall, learning steps, wall seconds."""
+"""metrics.csv: Q-table actions (columns), interior states and entries (states x actions),
+best and mean trial distance toward the light (m), the greedy policy's distance (m), trials
+that ended in a fall, learning steps (commands), wall seconds of the generation."""
+
+_FLOAT_COLUMNS = {"best_distance_m", "mean_distance_m", "greedy_distance_m", "wall_s"}
+SUMMARY_FILE = "summary.json"
+
+
+@dataclass(frozen=True)
+class GenerationReport:
+    """What a progress display shows after each generation.
+
+    Attributes:
+        generation: generations finished (from 1).
+        generations: generations in the run.
+        greedy_distance_m: the greedy policy's distance toward the light (m).
+        actions: Q-table actions.
+        q_entries: Q-table entries (states x actions).
+        steps_per_s: learning steps (commands) per wall second in this generation.
+        elapsed_s: wall time of the run so far, all sessions (s).
+        session_s: wall time since this session (start or resume) began (s).
+        session_generations: generations finished in this session.
+    """
+
+    generation: int
+    generations: int
+    greedy_distance_m: float
+    actions: int
+    q_entries: int
+    steps_per_s: float
+    elapsed_s: float
+    session_s: float
+    session_generations: int
+
+
+class TrainingInterrupted(Exception):
+    """Ctrl-C during training; the checkpoint of the last finished generation is kept."""
+
+    def __init__(self, run: Path, completed: int) -> None:
+        super().__init__(f"interrupted after generation {completed}")
+        self.run = run
+        self.completed = completed
+
+
+class Progress(Protocol):
+    """Told when a session of the run starts and after every generation."""
+
+    def start(self, *, completed: int, generations: int) -> None: ...
+
+    def generation(self, report: GenerationReport) -> None: ...
 
 
 def prepare_formation(file: Path | str, config: TrainingConfig) -> Formation:
@@ -64,82 +120,190 @@ def train(
     config: TrainingConfig,
     out: Path | str,
     *,
-    log: Callable[[str], None] | None = None,
+    progress: Progress | None = None,
 ) -> dict[str, Any]:
-    """Train with ``config`` and write the run folder ``out``; return the summary.
+    """Train with ``config`` and write the new run folder ``out``; return the summary.
 
     Raises:
-        FormationError: unreadable formation, or one the chosen world cannot model.
+        FormationError: ``out`` exists and is not empty; unreadable formation, or one the
+            chosen world cannot model.
+        TrainingInterrupted: Ctrl-C; ``out`` holds the last finished generation.
     """
-    start = time.perf_counter()
     out = Path(out)
-    out.mkdir(parents=True, exist_ok=True)
+    if out.exists() and (not out.is_dir() or any(out.iterdir())):
+        raise FormationError(
+            "run folder exists; continue it with --resume, or choose another --out", file=out
+        )
     formation = prepare_formation(formation_file, config)
+    out.mkdir(parents=True, exist_ok=True)
+    (out / "config.yaml").write_text(
+        yaml.safe_dump(config.to_dict(), sort_keys=False), encoding="utf-8"
+    )
+    return _run(out, formation, config, None, progress)
+
+
+def resume(run: Path | str, *, progress: Progress | None = None) -> dict[str, Any]:
+    """Continue the run folder ``run`` from its checkpoint; return the summary.
+
+    Raises:
+        FormationError: missing, corrupt or finished run folder.
+        TrainingInterrupted: Ctrl-C; ``run`` holds the last finished generation.
+    """
+    run = Path(run)
+    if not run.is_dir():
+        raise FormationError("run folder not found", file=run)
+    if (run / SUMMARY_FILE).is_file():
+        raise FormationError(
+            f"run is finished ({SUMMARY_FILE} exists); nothing to resume", file=run
+        )
+    config = read_run_config(run)
+    checkpoint = load_checkpoint(run)
+    formation = prepare_formation(checkpoint.formation_file, config)
+    return _run(run, formation, config, checkpoint, progress)
+
+
+def _run(
+    out: Path,
+    formation: Formation,
+    config: TrainingConfig,
+    checkpoint: Checkpoint | None,
+    progress: Progress | None,
+) -> dict[str, Any]:
+    session_start = time.perf_counter()
     world = build_world(formation, config, out)
     try:
-        return _train(formation, config, out, world, start, log)
+        learner = QDSEGA(
+            config=config.agent,
+            levels=np.array([len(j.levels_rad) for j in formation.joints]),
+            world=world.provider,
+            light_xy=light_of(formation),
+            rng=np.random.default_rng(config.seed),
+        )
+        if checkpoint is None:
+            checkpoint = _first_checkpoint(formation, config, learner)
+            save_checkpoint(out, checkpoint)
+        else:
+            learner.restore(checkpoint.learner)
+        first_elapsed, resumed_at = checkpoint.elapsed_s, checkpoint.learner.completed
+        if progress is not None:
+            progress.start(completed=resumed_at, generations=config.agent.genetic.generations)
+        try:
+            for generation in learner.run():
+                elapsed = first_elapsed + time.perf_counter() - session_start
+                checkpoint = _advance(checkpoint, generation, learner, elapsed)
+                world.save(out)
+                save_checkpoint(out, checkpoint)
+                _write_metrics(out, checkpoint.metrics)
+                if progress is not None:
+                    progress.generation(
+                        _report(checkpoint, generation, config, session_start, resumed_at)
+                    )
+        except KeyboardInterrupt:
+            raise TrainingInterrupted(out, checkpoint.learner.completed) from None
+        return _finish(out, formation, config, world, checkpoint)
     finally:
         world.close()
 
 
-def _train(
-    formation: Formation,
+def _first_checkpoint(formation: Formation, config: TrainingConfig, learner: QDSEGA) -> Checkpoint:
+    steps = config.agent.learning.trial_steps
+    return Checkpoint(
+        formation_file=str(Path(formation.file).resolve()),
+        learner=learner.state(),
+        metrics=np.zeros((0, len(METRIC_COLUMNS))),
+        poses=np.zeros((0, steps + 1, 3)),
+        greedy_actions=np.full(steps, -1, dtype=np.int64),
+        greedy_fell=False,
+        env_steps=0,
+        elapsed_s=0.0,
+    )
+
+
+def _advance(
+    checkpoint: Checkpoint, generation: Generation, learner: QDSEGA, elapsed_s: float
+) -> Checkpoint:
+    """The checkpoint after ``generation`` (the learner has already reproduced)."""
+    space = generation.space
+    row = [
+        generation.index,
+        space.n_actions,
+        space.n_interior,
+        generation.q.size,
+        generation.distances.max(),
+        generation.distances.mean(),
+        generation.greedy_distance,
+        int(generation.fell.sum()),
+        generation.steps,
+        generation.wall_s,
+    ]
+    return Checkpoint(
+        formation_file=checkpoint.formation_file,
+        learner=learner.state(),
+        metrics=np.vstack([checkpoint.metrics, np.array(row, dtype=np.float64)]),
+        poses=np.concatenate([checkpoint.poses, generation.greedy_poses[None]]),
+        greedy_actions=generation.greedy_actions.copy(),
+        greedy_fell=generation.greedy_fell,
+        env_steps=checkpoint.env_steps + generation.steps,
+        elapsed_s=elapsed_s,
+    )
+
+
+def _report(
+    checkpoint: Checkpoint,
+    generation: Generation,
     config: TrainingConfig,
-    out: Path,
-    world: TrainingWorld,
-    start: float,
-    log: Callable[[str], None] | None,
-) -> dict[str, Any]:
-    light = light_of(formation)
-    steps_per_trial = config.agent.learning.trial_steps
-    optimum = world.optimum
-    (out / "config.yaml").write_text(
-        yaml.safe_dump(config.to_dict(), sort_keys=False), encoding="utf-8"
+    session_start: float,
+    resumed_at: int,
+) -> GenerationReport:
+    session_s = time.perf_counter() - session_start
+    return GenerationReport(
+        generation=generation.index,
+        generations=config.agent.genetic.generations,
+        greedy_distance_m=generation.greedy_distance,
+        actions=generation.space.n_actions,
+        q_entries=generation.q.size,
+        steps_per_s=generation.steps / max(generation.wall_s, 1e-9),
+        elapsed_s=checkpoint.elapsed_s,
+        session_s=session_s,
+        session_generations=generation.index - resumed_at,
     )
-    learner = QDSEGA(
-        config=config.agent,
-        levels=np.array([len(j.levels_rad) for j in formation.joints]),
-        world=world.provider,
-        light_xy=light,
-        rng=np.random.default_rng(config.seed),
-    )
-    poses, env_steps = [], 0
-    with (out / "metrics.csv").open("w", newline="", encoding="utf-8") as stream:
+
+
+def _write_metrics(out: Path, metrics: np.ndarray) -> None:
+    """metrics.csv from the checkpoint's rows, written then renamed."""
+    partial = out / "metrics.partial.csv"
+    with partial.open("w", newline="", encoding="utf-8") as stream:
         writer = csv.writer(stream)
         writer.writerow(METRIC_COLUMNS)
-        for generation in learner.run():
-            env_steps += generation.steps
-            poses.append(generation.greedy_poses)
+        for row in metrics:
             writer.writerow(
-                [
-                    generation.index,
-                    generation.space.n_actions,
-                    f"{generation.distances.max():.6f}",
-                    f"{generation.distances.mean():.6f}",
-                    f"{generation.greedy_distance:.6f}",
-                    int(generation.fell.sum()),
-                    generation.steps,
-                    f"{generation.wall_s:.4f}",
-                ]
+                f"{value:.6f}" if name in _FLOAT_COLUMNS else str(int(value))
+                for name, value in zip(METRIC_COLUMNS, row, strict=True)
             )
-            stream.flush()
-            world.save(out)
-            if log is not None:
-                oracle = "" if optimum is None else f" (optimum {optimum.bound_m:.3f} m)"
-                log(
-                    f"generation {generation.index}: {generation.space.n_actions} actions, "
-                    f"greedy {generation.greedy_distance:.3f} m{oracle}"
-                )
-    gait = generation.greedy_postures()
-    layout = world.layout
+    os.replace(partial, out / "metrics.csv")
+
+
+def _finish(
+    out: Path,
+    formation: Formation,
+    config: TrainingConfig,
+    world: TrainingWorld,
+    checkpoint: Checkpoint,
+) -> dict[str, Any]:
+    """Write trajectories.npz, policy.npz and, last, summary.json from the final checkpoint."""
+    assert checkpoint.learner.previous is not None, "a finished run has learnt a generation"
+    space, q = checkpoint.learner.previous
+    light = light_of(formation)
+    optimum = world.optimum
+    gait = greedy_postures(space, checkpoint.greedy_actions, checkpoint.greedy_fell)
     np.savez_compressed(
         out / "trajectories.npz",
-        poses=np.array(poses),
+        poses=checkpoint.poses,
         gait_postures=gait,
         gait_angles_deg=np.degrees([formation.posture_rad(p) for p in gait]),
         joint_names=np.array([j.name for j in formation.joints], dtype=str),
-        gait_legs=leg_states(layout, gait),
-        leg_names=np.array([] if layout is None else layout.names, dtype=str),
+        gait_legs=leg_states(world.layout, gait),
+        leg_names=np.array([] if world.layout is None else world.layout.names, dtype=str),
         optimum_postures=np.zeros((0, len(formation.joints)), dtype=np.int64)
         if optimum is None
         else optimum.postures,
@@ -147,33 +311,34 @@ def _train(
     )
     np.savez_compressed(
         out / "policy.npz",
-        q=generation.q,
-        actions=generation.space.actions,
-        postures=generation.space.postures,
-        next_interior=generation.space.next_interior,
+        q=q,
+        actions=space.actions,
+        postures=space.postures,
+        next_interior=space.next_interior,
     )
+    greedy_distance = float(checkpoint.metrics[-1, METRIC_COLUMNS.index("greedy_distance_m")])
     summary = {
         "formation": formation.name,
-        "formation_file": str(Path(formation.file).resolve()),
+        "formation_file": checkpoint.formation_file,
         "sim": config.sim,
         "preset": config.preset,
         "seed": config.seed,
-        "generations": generation.index,
+        "generations": checkpoint.learner.completed,
         "trials_per_generation": config.agent.learning.trials,
-        "trial_steps": steps_per_trial,
-        "env_steps": env_steps,
-        "greedy_distance": generation.greedy_distance,
-        "greedy_fell": generation.greedy_fell,
+        "trial_steps": config.agent.learning.trial_steps,
+        "env_steps": checkpoint.env_steps,
+        "greedy_distance": greedy_distance,
+        "greedy_fell": checkpoint.greedy_fell,
         "optimum": None if optimum is None else optimum.bound_m,
         "optimum_exact": None if optimum is None else optimum.exact,
-        "greedy_over_optimum": None
-        if optimum is None
-        else generation.greedy_distance / optimum.bound_m,
-        "final_heading_deg": math.degrees(generation.greedy_poses[-1, 2]),
+        "greedy_over_optimum": None if optimum is None else greedy_distance / optimum.bound_m,
+        "final_heading_deg": math.degrees(checkpoint.poses[-1, -1, 2]),
         "light_xy": list(light),
-        "wall_s": time.perf_counter() - start,
+        "wall_s": checkpoint.elapsed_s,
     }
-    (out / "summary.json").write_text(json.dumps(summary, indent=2) + "\n", encoding="utf-8")
+    partial = out / "summary.partial.json"
+    partial.write_text(json.dumps(summary, indent=2) + "\n", encoding="utf-8")
+    os.replace(partial, out / SUMMARY_FILE)
     return summary
 
 

@@ -5,6 +5,7 @@ from __future__ import annotations
 from dataclasses import replace
 
 import numpy as np
+import pytest
 
 from qdsega import ASSEMBLIES_DIR
 from qdsega.agent.config import PRESETS, with_budget
@@ -39,6 +40,31 @@ def test_same_seed_same_result():
         assert np.array_equal(a.fitness, b.fitness) and a.greedy_distance == b.greedy_distance
     other, _ = _learner(8, 1, 300)
     assert not np.array_equal(next(other.run()).q, runs[0][0].q)
+
+
+def test_a_restored_state_continues_exactly_as_an_uninterrupted_run():
+    learner, _ = _learner(5, 4, 200)
+    uninterrupted = list(learner.run())
+    first, _ = _learner(5, 4, 200)
+    first.step()
+    first.step()
+    saved = first.state()
+    first.step()  # moves on; the saved state must not move with it
+    second, _ = _learner(99, 4, 200)
+    second.restore(saved)
+    resumed = list(second.run())
+    assert [g.index for g in resumed] == [3, 4]
+    for a, b in zip(uninterrupted[2:], resumed, strict=True):
+        assert np.array_equal(a.q, b.q) and np.array_equal(a.space.actions, b.space.actions)
+        assert a.greedy_distance == b.greedy_distance
+
+
+def test_restore_refuses_a_state_of_another_shape():
+    learner, _ = _learner(1, 2, 100)
+    state = learner.state()
+    other = replace(state, population=state.population[:, :3])
+    with pytest.raises(ValueError, match="population"):
+        learner.restore(other)
 
 
 def test_legged12_walks_near_the_optimum_on_a_reduced_budget():

@@ -1,0 +1,124 @@
+"""The checkpoint of a training run: written after every generation, read by ``--resume``.
+
+``checkpoint.npz`` in the run folder holds the learner's state between two generations
+(:class:`qdsega.agent.learner.LearnerState`: population, random generator state, the last
+Q-table) and everything the run has recorded so far (metrics rows, greedy trajectories), so a
+run stopped at any moment (Ctrl-C, SIGKILL, power loss) continues from its last finished
+generation and ends exactly as it would have without the stop. It is written to a temporary
+file and renamed over the old one, so it is always whole.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import zipfile
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from qdsega.agent.learner import LearnerState
+from qdsega.agent.space import ExplorationSpace
+from qdsega.errors import FormationError
+
+CHECKPOINT_FILE = "checkpoint.npz"
+
+
+@dataclass(frozen=True)
+class Checkpoint:
+    """A run between two generations.
+
+    Attributes:
+        formation_file: the formation the run learns (absolute path).
+        learner: the learner's state.
+        metrics: one row per finished generation, columns of
+            :data:`qdsega.training.run.METRIC_COLUMNS`, shape (G, columns).
+        poses: each finished generation's greedy trial (x m, y m, theta rad),
+            shape (G, steps + 1, 3).
+        greedy_actions: the last generation's greedy actions, -1 after a fall, shape (steps,).
+        greedy_fell: whether that trial fell.
+        env_steps: learning steps (commands) so far.
+        elapsed_s: wall time spent so far (s), over all sessions of the run.
+    """
+
+    formation_file: str
+    learner: LearnerState
+    metrics: np.ndarray
+    poses: np.ndarray
+    greedy_actions: np.ndarray
+    greedy_fell: bool
+    env_steps: int
+    elapsed_s: float
+
+
+def save_checkpoint(run: Path, checkpoint: Checkpoint) -> None:
+    """Write ``checkpoint.npz`` into ``run``: a temporary file, then a rename."""
+    state = checkpoint.learner
+    arrays: dict[str, np.ndarray] = {
+        "population": state.population,
+        "metrics": checkpoint.metrics,
+        "poses": checkpoint.poses,
+        "greedy_actions": checkpoint.greedy_actions,
+    }
+    if state.previous is not None:
+        space, q = state.previous
+        arrays.update(
+            previous_actions=space.actions,
+            previous_action_of=space.action_of,
+            previous_postures=space.postures,
+            previous_next_interior=space.next_interior,
+            previous_q=q,
+        )
+    meta = {
+        "formation_file": checkpoint.formation_file,
+        "completed": state.completed,
+        "rng_state": state.rng_state,
+        "greedy_fell": checkpoint.greedy_fell,
+        "env_steps": checkpoint.env_steps,
+        "elapsed_s": checkpoint.elapsed_s,
+    }
+    partial = run / "checkpoint.partial.npz"
+    np.savez(partial, meta=np.array(json.dumps(meta)), **arrays)
+    os.replace(partial, run / CHECKPOINT_FILE)
+
+
+def load_checkpoint(run: Path) -> Checkpoint:
+    """Read ``run``'s checkpoint.
+
+    Raises:
+        FormationError: no checkpoint, or one that does not parse.
+    """
+    file = run / CHECKPOINT_FILE
+    if not file.is_file():
+        raise FormationError(f"nothing to resume (no {CHECKPOINT_FILE})", file=run)
+    try:
+        with np.load(file) as data:
+            meta = json.loads(str(data["meta"]))
+            previous = None
+            if "previous_q" in data:
+                space = ExplorationSpace(
+                    actions=data["previous_actions"],
+                    action_of=data["previous_action_of"],
+                    postures=data["previous_postures"],
+                    next_interior=data["previous_next_interior"],
+                )
+                previous = (space, data["previous_q"])
+            return Checkpoint(
+                formation_file=str(meta["formation_file"]),
+                learner=LearnerState(
+                    completed=int(meta["completed"]),
+                    population=data["population"],
+                    rng_state=meta["rng_state"],
+                    previous=previous,
+                ),
+                metrics=data["metrics"],
+                poses=data["poses"],
+                greedy_actions=data["greedy_actions"],
+                greedy_fell=bool(meta["greedy_fell"]),
+                env_steps=int(meta["env_steps"]),
+                elapsed_s=float(meta["elapsed_s"]),
+            )
+    except (OSError, ValueError, KeyError, TypeError, zipfile.BadZipFile) as exc:
+        message = f"corrupt {CHECKPOINT_FILE} ({exc.__class__.__name__}: {exc})"
+        raise FormationError(message, file=run) from None

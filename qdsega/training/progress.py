@@ -1,0 +1,64 @@
+"""Progress of a training run on the terminal: a bar on a TTY, plain log lines elsewhere."""
+
+from __future__ import annotations
+
+import sys
+from typing import TextIO
+
+from tqdm import tqdm
+
+from qdsega.training.run import GenerationReport
+
+
+class ProgressDisplay:
+    """A :class:`qdsega.training.run.Progress` that writes to ``stream``.
+
+    On a terminal it draws a bar (generation, greedy distance, Q-table size, steps/s, ETA);
+    otherwise (a log file, a pipe, CI) it prints one line per generation with the same facts.
+    """
+
+    def __init__(self, stream: TextIO = sys.stderr) -> None:
+        self.stream = stream
+        self.interactive = stream.isatty()
+        self._bar: tqdm | None = None
+
+    def start(self, *, completed: int, generations: int) -> None:
+        if self.interactive:
+            self._bar = tqdm(
+                total=generations,
+                initial=completed,
+                unit="gen",
+                desc="generation",
+                file=self.stream,
+                dynamic_ncols=True,
+            )
+
+    def generation(self, report: GenerationReport) -> None:
+        facts = (
+            f"greedy {report.greedy_distance_m:.3f} m, Q-table {report.actions} actions "
+            f"({report.q_entries} entries), {report.steps_per_s:,.0f} steps/s"
+        )
+        if self._bar is not None:
+            self._bar.set_postfix_str(facts, refresh=False)
+            self._bar.update(1)
+            return
+        left = report.generations - report.generation
+        eta = report.session_s / report.session_generations * left
+        print(
+            f"generation {report.generation}/{report.generations}: {facts}, "
+            f"elapsed {_clock(report.elapsed_s)}, ETA {_clock(eta)}",
+            file=self.stream,
+            flush=True,
+        )
+
+    def close(self) -> None:
+        if self._bar is not None:
+            self._bar.close()
+            self._bar = None
+
+
+def _clock(seconds: float) -> str:
+    """``h:mm:ss`` or ``m:ss``."""
+    minutes, secs = divmod(round(seconds), 60)
+    hours, minutes = divmod(minutes, 60)
+    return f"{hours}:{minutes:02d}:{secs:02d}" if hours else f"{minutes}:{secs:02d}"

@@ -1,0 +1,174 @@
+"""``qdsega train`` stopped (SIGKILL, Ctrl-C) and resumed ends exactly like an uninterrupted run."""
+
+from __future__ import annotations
+
+import csv
+import json
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+from helpers import run_cli
+
+from qdsega import ASSEMBLIES_DIR
+
+MEMO_BUDGET = """\
+workers: {workers}
+agent:
+  learning: {{trials: 60, trial_steps: 6}}
+  genetic: {{population: 8, generations: 4}}
+"""
+
+
+def _start(*args: str | Path) -> subprocess.Popen[str]:
+    """``qdsega ARGS`` in its own process group (as a terminal's foreground job)."""
+    return subprocess.Popen(
+        [sys.executable, "-m", "qdsega.cli", *map(str, args)],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        start_new_session=True,
+    )
+
+
+def _finished_generations(run: Path) -> int:
+    metrics = run / "metrics.csv"
+    return len(metrics.read_text().splitlines()) - 1 if metrics.is_file() else 0
+
+
+def _stop_after(process: subprocess.Popen[str], run: Path, generations: int, sig: int) -> None:
+    """Send ``sig`` to the process group once ``generations`` are finished."""
+    deadline = time.monotonic() + 240
+    while _finished_generations(run) < generations:
+        assert process.poll() is None, process.communicate()
+        assert time.monotonic() < deadline, "training did not progress"
+        time.sleep(0.01)
+    os.killpg(process.pid, sig)
+
+
+def _metrics_without_wall_time(run: Path) -> list[dict[str, str]]:
+    rows = list(csv.DictReader((run / "metrics.csv").open()))
+    return [{k: v for k, v in row.items() if k != "wall_s"} for row in rows]
+
+
+def _assert_same_result(a: Path, b: Path) -> None:
+    assert _metrics_without_wall_time(a) == _metrics_without_wall_time(b)
+    for name in ("policy.npz", "trajectories.npz"):
+        with np.load(a / name) as x, np.load(b / name) as y:
+            assert sorted(x) == sorted(y)
+            for key in x:
+                assert np.array_equal(x[key], y[key]), f"{name}:{key}"
+    sa, sb = (json.loads((r / "summary.json").read_text()) for r in (a, b))
+    for key in ("greedy_distance", "generations", "env_steps", "final_heading_deg"):
+        assert sa[key] == sb[key], key
+
+
+def _train_args(kind: str, tmp_path: Path, out: Path, workers: int = 1) -> list[str | Path]:
+    if kind == "msm":
+        return [
+            "train", ASSEMBLIES_DIR / "legged12.yaml", "--sim", "msm", "--seed", "3",
+            "--generations", "6", "--trials", "6000", "--out", out, "--quiet",
+        ]  # fmt: skip
+    config = tmp_path / f"budget{workers}.yaml"
+    config.write_text(MEMO_BUDGET.format(workers=workers))
+    return [
+        "train", ASSEMBLIES_DIR / "snake5.yaml", "--sim", "memo", "--preset", "paper-snake",
+        "--config", config, "--seed", "1", "--out", out, "--quiet",
+    ]  # fmt: skip
+
+
+@pytest.mark.parametrize("kind", ["msm", "memo"])
+def test_sigkill_then_resume_equals_an_uninterrupted_run(kind, tmp_path):
+    whole, killed = tmp_path / "whole", tmp_path / "killed"
+    result = run_cli(*_train_args(kind, tmp_path, whole))
+    assert result.returncode == 0, result.stderr
+
+    process = _start(*_train_args(kind, tmp_path, killed))
+    _stop_after(process, killed, 2, signal.SIGKILL)
+    process.wait(timeout=30)
+    assert process.returncode == -signal.SIGKILL
+    assert not (killed / "summary.json").exists(), "killed too late to test a resume"
+
+    resumed = run_cli("train", "--resume", killed)
+    assert resumed.returncode == 0, resumed.stderr
+    _assert_same_result(whole, killed)
+    if kind == "memo":
+        with np.load(whole / "transitions.npz") as x, np.load(killed / "transitions.npz") as y:
+            assert np.array_equal(x["pairs"], y["pairs"])
+            assert np.array_equal(x["values"], y["values"])
+
+
+def test_ctrl_c_saves_and_resume_finishes(tmp_path):
+    run = tmp_path / "run"
+    process = _start(*_train_args("memo", tmp_path, run, workers=2))
+    _stop_after(process, run, 1, signal.SIGINT)
+    out, err = process.communicate(timeout=60)
+    assert process.returncode == 130, err
+    assert "Traceback" not in err and "Traceback" not in out
+    assert f"qdsega train --resume {run}" in out
+    assert not list(run.glob("*.partial*"))
+
+    resumed = run_cli("train", "--resume", run)
+    assert resumed.returncode == 0, resumed.stderr
+    assert _finished_generations(run) == 4 and (run / "summary.json").is_file()
+    again = run_cli("train", "--resume", run)
+    assert again.returncode == 2 and "nothing to resume" in again.stderr
+
+
+def test_an_existing_run_folder_is_never_overwritten(tmp_path):
+    run = tmp_path / "run"
+    run.mkdir()
+    (run / "keep.txt").write_text("mine")
+    args = ["train", ASSEMBLIES_DIR / "quadruped.yaml", "--generations", "1", "--trials", "10"]
+    refused = run_cli(*args, "--out", run, "--quiet")
+    assert refused.returncode == 2 and "--resume" in refused.stderr
+    assert (run / "keep.txt").read_text() == "mine"
+    replaced = run_cli(*args, "--out", run, "--quiet", "--overwrite")
+    assert replaced.returncode == 0, replaced.stderr
+    assert not (run / "keep.txt").exists() and (run / "summary.json").is_file()
+
+
+def test_default_run_folder_names_formation_sim_and_seed(tmp_path):
+    result = run_cli(
+        "train", ASSEMBLIES_DIR / "quadruped.yaml", "--seed", "5", "--generations", "2",
+        "--trials", "10", cwd=tmp_path,
+    )  # fmt: skip
+    assert result.returncode == 0, result.stderr
+    run = tmp_path / "runs" / "quadruped-msm-seed5"
+    assert (run / "summary.json").is_file()
+    lines = result.stderr.strip().splitlines()  # not a terminal: one log line per generation
+    assert [line.split(":")[0] for line in lines] == ["generation 1/2", "generation 2/2"]
+    assert "greedy" in lines[0] and "Q-table" in lines[0] and "ETA" in lines[0]
+
+
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [
+        (["--resume", "nowhere"], "run folder not found"),
+        (["assemblies/snake5.yaml", "--preset", "fastest"], "unknown preset"),
+        (["assemblies/snake5.yaml", "--sim", "msm"], "legged formation"),
+        ([], "give a FORMATION.yaml"),
+    ],
+)
+def test_bad_input_is_one_line_and_status_2(args, message, tmp_path):
+    result = run_cli("train", *args, "--quiet", cwd=Path(ASSEMBLIES_DIR).parent)
+    assert result.returncode == 2, result.stderr
+    assert message in result.stderr and len(result.stderr.strip().splitlines()) == 1
+
+
+def test_resume_refuses_a_corrupt_checkpoint(tmp_path):
+    run = tmp_path / "run"
+    result = run_cli(
+        "train", ASSEMBLIES_DIR / "quadruped.yaml", "--generations", "1", "--trials", "10",
+        "--out", run, "--quiet",
+    )  # fmt: skip
+    assert result.returncode == 0
+    (run / "summary.json").unlink()
+    (run / "checkpoint.npz").write_bytes(b"garbage")
+    resumed = run_cli("train", "--resume", run)
+    assert resumed.returncode == 2 and "corrupt checkpoint.npz" in resumed.stderr
