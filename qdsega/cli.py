@@ -7,10 +7,10 @@ import sys
 from collections.abc import Sequence
 
 from qdsega import __version__
-from qdsega.commands import assemble, evaluate, plot, render, train
+from qdsega.commands import assemble, evaluate, plot, render, report, train
 from qdsega.errors import FormationError
 
-COMMANDS = (assemble, train, evaluate, plot, render)
+COMMANDS = (assemble, train, evaluate, plot, render, report)
 """Each module provides ``NAME``, ``HELP``, ``add_arguments(parser)`` and ``run(args) -> int``."""
 
 

@@ -1,12 +1,16 @@
-"""``qdsega plot``: Fig. 11 and Fig. 12 style figures from a run folder."""
+"""``qdsega plot``: the figures of a run folder (:mod:`qdsega.training.plots`)."""
 
 from __future__ import annotations
 
 import argparse
+import sys
 from pathlib import Path
 
 NAME = "plot"
-HELP = "draw trajectories (Fig. 11) and the acquired gait (Fig. 12) of a run folder"
+HELP = (
+    "draw a run's learning curve, Q-table size, trajectories (Fig. 11), gait (Fig. 12), "
+    "snake poses (Fig. 13) and joint angles as PNG files in the run folder"
+)
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -18,6 +22,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 def run(args: argparse.Namespace) -> int:
     from qdsega.training.plots import plot_run  # matplotlib loads only when plotting
 
-    for path in plot_run(args.run_dir):
+    paths, notes = plot_run(args.run_dir)
+    for path in paths:
         print(path)
+    for note in notes:
+        print(f"qdsega plot: note: {note}", file=sys.stderr)
     return 0

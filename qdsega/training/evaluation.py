@@ -12,6 +12,8 @@
   states (:mod:`qdsega.locomotion.reference_gaits`);
 * ``ratio``: ``distance_m / reference.distance_m``;
 * ``postures``: the commanded postures (level indices), step by step;
+* ``unit_xy_m``: every unit's centre of mass (x, y) (m) at the start and after each step,
+  shape (steps + 1, units, 2): the body's shape over the trial (the snake pose strip);
 * ``wave`` (formations with two or more joints): the period of the joint-angle sequence and the
   phase lag between neighbouring joints, measured from the commanded angles.
 """
@@ -63,6 +65,7 @@ def evaluate_run(run: Path | str) -> dict[str, Any]:
         if reference["distance_m"] > 0
         else None,
         "postures": learned["postures"],
+        "unit_xy_m": learned["unit_xy_m"],
     }
     if len(formation.joints) >= 2 and len(learned["postures"]) >= 4:
         result["wave"] = wave_of(formation, np.array(learned["postures"]))
@@ -76,17 +79,30 @@ def replay_policy(env: LocomotionEnv, policy: dict[str, np.ndarray]) -> dict[str
     n_exterior = q.shape[0] // len(policy["postures"])
     observation, info = env.reset(seed=0)
     interior, postures, failure = 0, [], None
+    units = [_unit_xy(env)]
     for _ in range(env.task.trial_steps):
         action = int(np.argmax(q[interior * n_exterior + int(observation[-1])]))
         observation, _, terminated, truncated, info = env.step(actions[action])
         postures.append([int(level) for level in actions[action]])
+        units.append(_unit_xy(env))
         if terminated:
             failure = info["failure"]
             break
         interior = int(next_interior[action])
         if truncated:
             break
-    return {"distance_m": info["distance_covered_m"], "failure": failure, "postures": postures}
+    return {
+        "distance_m": info["distance_covered_m"],
+        "failure": failure,
+        "postures": postures,
+        "unit_xy_m": units,
+    }
+
+
+def _unit_xy(env: LocomotionEnv) -> list[list[float]]:
+    """Every unit's centre of mass (x, y) (m), in formation order, rounded to 0.1 mm."""
+    centres, _ = env.sim.unit_states()
+    return centres[:, :2].round(4).tolist()
 
 
 def replay_postures(env: LocomotionEnv, postures: np.ndarray) -> tuple[float, str | None]:

@@ -1,19 +1,31 @@
-"""Figures of a run folder, after the paper's Fig. 11 (trajectories) and Fig. 12 (gait)."""
+"""Figures of a run folder: learning curve, Q-table size, the paper's Fig. 11 (trajectories),
+Fig. 12 (gait of a legged body), Fig. 13 (poses of a snake) and the joint angles."""
 
 from __future__ import annotations
 
+import csv
+import json
 from pathlib import Path
+from typing import Any
 
 import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 import numpy as np
+from matplotlib.ticker import MaxNLocator
 
 from qdsega.errors import FormationError
 
-FIGURES = ("fig11_trajectories.png", "fig12_gait.png", "joint_angles.png")
-"""Trajectories, the legs' gait (legged formations only) and the joint angles."""
+LEARNING_CURVE = "learning_curve.png"
+QTABLE_SIZE = "qtable_size.png"
+TRAJECTORIES = "fig11_trajectories.png"
+GAIT = "fig12_gait.png"
+SNAKE_POSES = "fig13_snake_poses.png"
+JOINT_ANGLES = "joint_angles.png"
+FIGURES = (LEARNING_CURVE, QTABLE_SIZE, TRAJECTORIES, GAIT, SNAKE_POSES, JOINT_ANGLES)
+"""Every figure ``qdsega plot`` can draw; the gait needs legs, the snake poses a legless body
+and an evaluation (``qdsega evaluate``)."""
 
 
 def selected_generations(count: int, shown: int = 6) -> list[int]:
@@ -21,27 +33,155 @@ def selected_generations(count: int, shown: int = 6) -> list[int]:
     return sorted({round(g) for g in np.linspace(1, count, min(shown, count))})
 
 
-def plot_run(run: Path | str) -> list[Path]:
-    """Write the two figures into the run folder; return their paths.
+def plot_run(run: Path | str) -> tuple[list[Path], list[str]]:
+    """Draw the run's figures into its folder.
+
+    Returns:
+        The figures written, and a note for each figure left out (and why).
 
     Raises:
-        FormationError: the folder is not a complete run folder.
+        FormationError: the folder is not a finished run folder, or its files do not parse.
     """
     run = Path(run)
-    source = run / "trajectories.npz"
-    if not source.is_file():
-        raise FormationError("not a run folder (no trajectories.npz)", file=run)
+    for name in ("trajectories.npz", "metrics.csv", "summary.json"):
+        if not (run / name).is_file():
+            raise FormationError(f"not a finished run folder (no {name})", file=run)
     try:
-        with np.load(source) as data:
+        with np.load(run / "trajectories.npz") as data:
             poses, legs, names = data["poses"], data["gait_legs"], data["leg_names"]
             light, angles, joints = data["light"], data["gait_angles_deg"], data["joint_names"]
+        with (run / "metrics.csv").open(encoding="utf-8") as stream:
+            metrics = {k: np.array(v, dtype=float) for k, v in _columns(stream).items()}
+        summary = json.loads((run / "summary.json").read_text(encoding="utf-8"))
+        evaluation = None
+        if (run / "evaluation.json").is_file():
+            evaluation = json.loads((run / "evaluation.json").read_text(encoding="utf-8"))
     except (OSError, ValueError, KeyError) as exc:
-        raise FormationError(f"corrupt trajectories.npz ({exc})", file=run) from None
-    paths = [_trajectories(run / FIGURES[0], poses, light)]
+        raise FormationError(f"corrupt run folder ({exc})", file=run) from None
+    paths = [
+        _learning_curve(run / LEARNING_CURVE, metrics, summary, evaluation),
+        _qtable_size(run / QTABLE_SIZE, metrics),
+        _trajectories(run / TRAJECTORIES, poses, light),
+    ]
+    notes = []
     if legs.shape[1] > 0:
-        paths.append(_gait(run / FIGURES[1], legs, names))
-    paths.append(_joint_angles(run / FIGURES[2], angles, joints))
-    return paths
+        paths.append(_gait(run / GAIT, legs, names))
+    elif evaluation is not None and "unit_xy_m" in evaluation:
+        paths.append(_snake_poses(run / SNAKE_POSES, np.array(evaluation["unit_xy_m"]), light))
+    else:
+        notes.append(f"{SNAKE_POSES} needs an evaluation: run qdsega evaluate {run} first")
+    paths.append(_joint_angles(run / JOINT_ANGLES, angles, joints))
+    return paths, notes
+
+
+def _columns(stream: Any) -> dict[str, list[str]]:
+    rows = list(csv.DictReader(stream))
+    if not rows:
+        raise ValueError("metrics.csv has no generations")
+    return {key: [row[key] for row in rows] for key in rows[0]}
+
+
+def _learning_curve(
+    path: Path,
+    metrics: dict[str, np.ndarray],
+    summary: dict[str, Any],
+    evaluation: dict[str, Any] | None,
+) -> Path:
+    """Greedy distance per generation, against the optimum (MSM) or the reference gait."""
+    generation = metrics["generation"]
+    world = {"msm": "MSM", "memo": "memo table", "pybullet": "PyBullet"}.get(summary["sim"], "")
+    fig, ax = plt.subplots(figsize=(7, 3.6))
+    ax.plot(generation, metrics["greedy_distance_m"], "-o", markersize=3, label=f"greedy ({world})")
+    ax.plot(generation, metrics["best_distance_m"], ":", linewidth=1, label="best learning trial")
+    if summary.get("optimum") is not None:
+        ax.axhline(summary["optimum"], color="k", linestyle="--", label="optimum (MSM)")
+    if evaluation is not None:
+        reference = evaluation["reference"]
+        ax.axhline(
+            reference["distance_m"],
+            color="tab:red",
+            linestyle="--",
+            label=f"reference: {reference['kind']} (PyBullet)",
+        )
+        ax.plot(
+            generation[-1:],
+            [evaluation["distance_m"]],
+            "s",
+            color="tab:green",
+            label="final policy replayed in PyBullet",
+        )
+    ax.set_xlabel("generation")
+    ax.xaxis.set_major_locator(MaxNLocator(integer=True))
+    ax.set_ylabel("distance toward the light (m)")
+    ax.set_title(f"{summary['formation']}: learning curve")
+    ax.legend(fontsize=8, loc="lower right")
+    ax.grid(alpha=0.3)
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+    return path
+
+
+def _qtable_size(path: Path, metrics: dict[str, np.ndarray]) -> Path:
+    """Actions, interior states and Q-table entries per generation."""
+    generation = metrics["generation"]
+    fig, (top, bottom) = plt.subplots(2, 1, figsize=(7, 4.2), sharex=True)
+    top.plot(generation, metrics["actions"], "-o", markersize=3, label="actions")
+    top.plot(generation, metrics["interior_states"], "-s", markersize=3, label="interior states")
+    top.set_ylabel("count")
+    top.legend(fontsize=8)
+    top.grid(alpha=0.3)
+    bottom.plot(generation, metrics["q_entries"], "-o", markersize=3, color="tab:purple")
+    bottom.set_ylabel("Q-table entries")
+    bottom.set_xlabel("generation")
+    bottom.xaxis.set_major_locator(MaxNLocator(integer=True))
+    bottom.grid(alpha=0.3)
+    fig.suptitle("Exploration space per generation (states include the exterior bins)")
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+    return path
+
+
+def _snake_poses(path: Path, units: np.ndarray, light: np.ndarray) -> Path:
+    """Fig. 13: the body seen from above at successive steps of the exact replay.
+
+    Args:
+        units: every unit's centre (x, y) (m) at the start and after each step,
+            shape (steps + 1, U, 2).
+    """
+    shown = sorted({round(t) for t in np.linspace(0, len(units) - 1, min(7, len(units)))})
+    low, high = units.reshape(-1, 2).min(axis=0), units.reshape(-1, 2).max(axis=0)
+    margin = 0.03 + 0.05 * float(np.max(high - low))
+    span = high - low + 2 * margin
+    width = 7.0
+    row = max(0.6, 0.8 * width * span[1] / span[0])
+    fig, axes = plt.subplots(len(shown), 1, figsize=(width, row * len(shown) + 1.0), sharex=True)
+    axes = np.atleast_1d(axes)
+    direction = light / max(float(np.hypot(*light)), 1e-12)
+    for ax, t in zip(axes, shown, strict=True):
+        ax.plot(*units[: t + 1, 0].T, ":", color="0.6", linewidth=1)
+        ax.plot(*units[t].T, "-o", color="tab:blue", markersize=3, linewidth=2)
+        ax.plot(*units[t, 0], "o", color="tab:red", markersize=4)
+        ax.annotate(
+            "",
+            xy=tuple(low + 0.15 * span[0] * direction),
+            xytext=tuple(low),
+            arrowprops={"arrowstyle": "->", "color": "orange"},
+        )
+        ax.set_xlim(low[0] - margin, high[0] + margin)
+        ax.set_ylim(low[1] - margin, high[1] + margin)
+        ax.set_aspect("equal")
+        ax.text(0.01, 0.9, f"step {t}", transform=ax.transAxes, fontsize=8, va="top")
+        ax.tick_params(labelsize=7)
+    axes[-1].set_xlabel("x (m)")
+    fig.suptitle(
+        "Snake seen from above, replayed in PyBullet\n(red: head, dotted: its path, arrow: light)"
+    )
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+    return path
 
 
 def _trajectories(path: Path, poses: np.ndarray, light: np.ndarray) -> Path:

@@ -40,7 +40,13 @@ from qdsega.description import Formation, Light, load_formation
 from qdsega.errors import FormationError
 from qdsega.training.checkpoint import Checkpoint, load_checkpoint, save_checkpoint
 from qdsega.training.config import TrainingConfig, read_run_config
-from qdsega.training.worlds import TrainingWorld, build_world, leg_states, light_of
+from qdsega.training.worlds import (
+    TrainingWorld,
+    build_world,
+    check_world,
+    leg_states,
+    light_of,
+)
 
 METRIC_COLUMNS = (
     "generation",
@@ -135,6 +141,7 @@ def train(
             "run folder exists; continue it with --resume, or choose another --out", file=out
         )
     formation = prepare_formation(formation_file, config)
+    check_world(formation, config)
     out.mkdir(parents=True, exist_ok=True)
     (out / "config.yaml").write_text(
         yaml.safe_dump(config.to_dict(), sort_keys=False), encoding="utf-8"

@@ -57,6 +57,19 @@ class TrainingWorld:
             close()
 
 
+def check_world(formation: Formation, config: TrainingConfig) -> None:
+    """Refuse, before anything is written, a formation the world ``config.sim`` cannot model.
+
+    Raises:
+        FormationError: a legless formation in the MSM; a formation the lower agent cannot
+            drive in PyBullet.
+    """
+    if config.sim == "msm":
+        LegLayout.from_formation(formation)
+    else:
+        config.lower_agent.check_formation(formation)
+
+
 def build_world(formation: Formation, config: TrainingConfig, run: Path) -> TrainingWorld:
     """The world ``config.sim`` names, for ``formation``; memo mode reuses ``run``'s table.
 

@@ -150,15 +150,16 @@ def test_default_run_folder_names_formation_sim_and_seed(tmp_path):
     ("args", "message"),
     [
         (["--resume", "nowhere"], "run folder not found"),
-        (["assemblies/snake5.yaml", "--preset", "fastest"], "unknown preset"),
-        (["assemblies/snake5.yaml", "--sim", "msm"], "legged formation"),
+        ([ASSEMBLIES_DIR / "snake5.yaml", "--preset", "fastest"], "unknown preset"),
+        ([ASSEMBLIES_DIR / "snake5.yaml", "--sim", "msm"], "legged formation"),
         ([], "give a FORMATION.yaml"),
     ],
 )
-def test_bad_input_is_one_line_and_status_2(args, message, tmp_path):
-    result = run_cli("train", *args, "--quiet", cwd=Path(ASSEMBLIES_DIR).parent)
+def test_bad_input_is_one_line_and_status_2_and_writes_nothing(args, message, tmp_path):
+    result = run_cli("train", *args, "--quiet", cwd=tmp_path)
     assert result.returncode == 2, result.stderr
     assert message in result.stderr and len(result.stderr.strip().splitlines()) == 1
+    assert list(tmp_path.iterdir()) == []
 
 
 def test_resume_refuses_a_corrupt_checkpoint(tmp_path):

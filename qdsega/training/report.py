@@ -1,0 +1,145 @@
+"""One self-contained HTML page about a run: summary, evaluation, figures, video, configuration.
+
+Figures and the video are embedded as data URIs, so the page can be mailed or uploaded alone.
+The page shows what the run folder holds: figures come from ``qdsega plot``, the evaluation
+from ``qdsega evaluate``, videos (``*.mp4``, ``*.gif``) from ``qdsega render -o RUN/...``.
+"""
+
+from __future__ import annotations
+
+import base64
+import html
+import json
+import os
+from pathlib import Path
+from typing import Any
+
+from qdsega.errors import FormationError
+from qdsega.training.plots import FIGURES
+
+REPORT_FILE = "report.html"
+_MEDIA = {".png": "image/png", ".gif": "image/gif", ".mp4": "video/mp4"}
+_STYLE = """
+body { font-family: system-ui, sans-serif; max-width: 960px; margin: 2em auto; padding: 0 1em;
+       color: #222; }
+table { border-collapse: collapse; margin: 0.5em 0 1.5em; }
+td, th { border: 1px solid #ccc; padding: 0.25em 0.6em; text-align: left; }
+th { background: #f3f3f3; }
+img, video { max-width: 100%; border: 1px solid #ddd; margin: 0.5em 0; }
+pre { background: #f6f6f6; padding: 0.8em; overflow-x: auto; }
+.note { color: #777; }
+"""
+
+
+def write_report(run: Path | str, out: Path | None = None) -> Path:
+    """Write the report of ``run`` to ``out`` (default ``RUN/report.html``); return its path.
+
+    Raises:
+        FormationError: not a finished run folder, or its files do not parse.
+    """
+    run = Path(run)
+    if not run.is_dir():
+        raise FormationError("run folder not found", file=run)
+    for name in ("summary.json", "config.yaml"):
+        if not (run / name).is_file():
+            raise FormationError(f"not a finished run folder (no {name})", file=run)
+    try:
+        summary = json.loads((run / "summary.json").read_text(encoding="utf-8"))
+        config = (run / "config.yaml").read_text(encoding="utf-8")
+        evaluation = None
+        if (run / "evaluation.json").is_file():
+            evaluation = json.loads((run / "evaluation.json").read_text(encoding="utf-8"))
+    except (OSError, ValueError) as exc:
+        raise FormationError(f"corrupt run folder ({exc})", file=run) from None
+    if not isinstance(summary, dict) or "formation" not in summary:
+        raise FormationError("corrupt run folder (summary.json is not a summary)", file=run)
+    title = f"qdsega run: {summary['formation']} ({summary.get('sim')}, seed {summary.get('seed')})"
+    parts = [
+        f"<h1>{html.escape(title)}</h1>",
+        "<h2>Summary</h2>",
+        _table(summary),
+        "<h2>Evaluation with exact physics</h2>",
+        _evaluation(evaluation, run),
+        "<h2>Video</h2>",
+        _videos(run),
+        "<h2>Figures</h2>",
+        _figures(run),
+        "<h2>Configuration</h2>",
+        f"<pre>{html.escape(config)}</pre>",
+    ]
+    page = (
+        f"<!DOCTYPE html>\n<html lang='en'><head><meta charset='utf-8'>"
+        f"<title>{html.escape(title)}</title><style>{_STYLE}</style></head><body>\n"
+        + "\n".join(parts)
+        + "\n</body></html>\n"
+    )
+    out = out or run / REPORT_FILE
+    partial = out.with_name(out.name + ".partial")
+    partial.write_text(page, encoding="utf-8")
+    os.replace(partial, out)
+    return out
+
+
+def _table(values: dict[str, Any]) -> str:
+    rows = "".join(
+        f"<tr><th>{html.escape(str(k))}</th><td>{html.escape(_format(v))}</td></tr>"
+        for k, v in values.items()
+    )
+    return f"<table>{rows}</table>"
+
+
+def _format(value: Any) -> str:
+    if isinstance(value, float):
+        return f"{value:.4g}"
+    if isinstance(value, list | dict):
+        return json.dumps(value)
+    return str(value)
+
+
+def _evaluation(evaluation: dict[str, Any] | None, run: Path) -> str:
+    if evaluation is None:
+        return f"<p class='note'>Not evaluated yet: <code>qdsega evaluate {run}</code>.</p>"
+    reference = evaluation["reference"]
+    shown = {
+        "learnt policy, distance toward the light (m)": evaluation["distance_m"],
+        "ended early because": evaluation["failure"] or "did not fail",
+        "memo table predicted (m)": evaluation.get("memo_prediction_m"),
+        f"reference: {reference['kind']} (m)": reference["distance_m"],
+        "reference parameters": reference.get("params"),
+        "ratio learnt / reference": evaluation["ratio"],
+    }
+    wave = evaluation.get("wave")
+    if wave is not None:
+        shown["period (steps)"] = wave["period_steps"]
+        shown["phase lag between neighbouring joints (deg)"] = wave["phase_lag_deg"]
+    return _table({k: v for k, v in shown.items() if v is not None})
+
+
+def _videos(run: Path) -> str:
+    files = sorted(p for p in run.iterdir() if p.suffix.lower() in (".mp4", ".gif"))
+    if not files:
+        return f"<p class='note'>No video: <code>qdsega render {run} -o {run}/gait.mp4</code>.</p>"
+    blocks = []
+    for file in files:
+        uri = _data_uri(file)
+        if file.suffix.lower() == ".mp4":
+            blocks.append(f"<video controls loop muted src='{uri}'></video>")
+        else:
+            blocks.append(f"<img alt='{html.escape(file.name)}' src='{uri}'>")
+    return "\n".join(blocks)
+
+
+def _figures(run: Path) -> str:
+    files = [run / name for name in FIGURES if (run / name).is_file()]
+    if not files:
+        return f"<p class='note'>No figures: <code>qdsega plot {run}</code>.</p>"
+    return "\n".join(
+        f"<figure><img alt='{html.escape(f.name)}' src='{_data_uri(f)}'>"
+        f"<figcaption>{html.escape(f.name)}</figcaption></figure>"
+        for f in files
+    )
+
+
+def _data_uri(file: Path) -> str:
+    encoded = base64.b64encode(file.read_bytes()).decode("ascii")
+    return f"data:{_MEDIA[file.suffix.lower()]};base64,{encoded}"
