@@ -1,7 +1,10 @@
-"""``qdsega train --sim memo`` and ``qdsega evaluate`` through a subprocess, tiny budgets."""
+"""The main job through a subprocess with tiny budgets: ``qdsega train --sim memo``, then
+``evaluate``, ``plot``, ``render`` and ``report`` on the run folder."""
 
 import json
+import re
 
+import imageio.v3 as iio
 import numpy as np
 from helpers import run_cli
 
@@ -13,7 +16,7 @@ agent:
 """
 
 
-def test_memo_training_then_exact_evaluation(tmp_path):
+def test_memo_training_then_evaluate_plot_render_report(tmp_path):
     config = tmp_path / "tiny.yaml"
     config.write_text(TINY)
     run = tmp_path / "run"
@@ -46,6 +49,42 @@ def test_memo_training_then_exact_evaluation(tmp_path):
     assert evaluation["reference"]["kind"] == "serpenoid travelling wave"
     assert evaluation["reference"]["distance_m"] > 0.02
     assert evaluation["ratio"] == evaluation["distance_m"] / evaluation["reference"]["distance_m"]
+    units = np.array(evaluation["unit_xy_m"])
+    assert units.shape == (len(evaluation["postures"]) + 1, 5, 2)
+
+    plotted = run_cli("plot", run)
+    assert plotted.returncode == 0, plotted.stderr
+    figures = ["learning_curve", "qtable_size", "fig11_trajectories", "fig13_snake_poses"]
+    for name in [*figures, "joint_angles"]:
+        image = iio.imread(run / f"{name}.png")
+        assert image.shape[0] > 200 and image.shape[1] > 200, name
+        assert image[..., :3].std() > 5, name  # something is drawn
+    assert not (run / "fig12_gait.png").exists()  # a snake has no legs
+
+    video = run / "gait.mp4"
+    rendered = run_cli("render", run, "-o", video, "--fps", "6", "--width", "96", "--height", "64")
+    assert rendered.returncode == 0, rendered.stderr
+    frames = np.stack(list(iio.imiter(video, plugin="FFMPEG")))
+    steps = len(evaluation["postures"])  # 0.5 s each at 6 frames/s, plus the first frame
+    assert frames.shape == (1 + 3 * steps, 64, 96, 3) or evaluation["failure"]
+
+    reported = run_cli("report", run)
+    assert reported.returncode == 0, reported.stderr
+    page = (run / "report.html").read_text()
+    assert len(re.findall("src='data:image/png;base64,", page)) == 5
+    assert page.count("src='data:video/mp4;base64,") == 1
+    assert "serpenoid travelling wave" in page and "paper-snake" in page
+
+
+def test_plot_and_report_refuse_a_missing_or_unfinished_run(tmp_path):
+    for command in ("plot", "report"):
+        missing = run_cli(command, tmp_path / "nowhere")
+        assert missing.returncode == 2 and len(missing.stderr.strip().splitlines()) == 1
+        unfinished = tmp_path / "unfinished"
+        unfinished.mkdir(exist_ok=True)
+        (unfinished / "config.yaml").write_text("preset: paper-snake\n")
+        result = run_cli(command, unfinished)
+        assert result.returncode == 2 and "not a finished run folder" in result.stderr
 
 
 def test_evaluate_refuses_a_missing_or_corrupt_run(tmp_path):
