@@ -14,8 +14,18 @@ $(BIN)/qdsega: pyproject.toml
 
 setup: $(BIN)/qdsega
 
+# The main job: assemble, learn snake5 in memo mode, check it with exact physics, film it,
+# draw it and write one HTML page, all into runs/demo/ (replaced on every run).
+DEMO := runs/demo
+
 demo: setup
 	$(BIN)/qdsega assemble assemblies/*.yaml --out-dir out/assemblies
+	$(BIN)/qdsega train assemblies/snake5.yaml --sim memo --preset paper-snake \
+		--generations 10 --workers 2 --seed 0 --out $(DEMO) --overwrite
+	$(BIN)/qdsega evaluate $(DEMO)
+	$(BIN)/qdsega render $(DEMO) -o $(DEMO)/gait.mp4
+	$(BIN)/qdsega plot $(DEMO)
+	$(BIN)/qdsega report $(DEMO)
 
 lint: setup
 	$(BIN)/ruff check qdsega tools tests

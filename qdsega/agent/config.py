@@ -177,8 +177,12 @@ PRESETS: dict[str, QDSEGAConfig] = {
             mutation_rate=0.02,
         ),
     ),
+    "memo-legged": QDSEGAConfig(genetic=GeneticConfig(population=40, generations=30)),
 }
-"""Section 4's settings: 4.1.3 (multi-legged robot) and 4.2.3 (snake-like robot)."""
+"""Section 4's settings: 4.1.3 (multi-legged robot) and 4.2.3 (snake-like robot); and
+``memo-legged``, the legged settings with 40 individuals and 30 generations, for legged bodies
+in PyBullet: the paper's 200 x 200 would measure about 283,000 transitions of legged12 (hours
+on two cores); this measured 7,156 in 9.5 minutes (seed 0, two workers)."""
 
 
 def with_budget(
