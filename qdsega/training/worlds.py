@@ -20,6 +20,7 @@ import numpy as np
 
 from qdsega.agent.world import TransitionProvider, World
 from qdsega.description import Formation
+from qdsega.errors import FormationError
 from qdsega.msm import LegLayout, MinimalSimulationModel, Optimum, msm_optimum
 from qdsega.training.config import TrainingConfig
 
@@ -66,8 +67,11 @@ def check_world(formation: Formation, config: TrainingConfig) -> None:
     """
     if config.sim == "msm":
         LegLayout.from_formation(formation)
-    else:
+        return
+    try:
         config.lower_agent.check_formation(formation)
+    except ValueError as exc:
+        raise FormationError(f"{formation.name}: {exc}", file=formation.file) from None
 
 
 def build_world(formation: Formation, config: TrainingConfig, run: Path) -> TrainingWorld:

@@ -173,3 +173,21 @@ def test_resume_refuses_a_corrupt_checkpoint(tmp_path):
     (run / "checkpoint.npz").write_bytes(b"garbage")
     resumed = run_cli("train", "--resume", run)
     assert resumed.returncode == 2 and "corrupt checkpoint.npz" in resumed.stderr
+
+
+def test_a_joint_too_wide_for_one_step_is_refused_before_training(write_formation, tmp_path):
+    formation = write_formation(
+        """\
+        name: wide
+        light: {distance_m: 50.0}
+        units:
+          - {name: u1, unit: servo}
+          - {name: u2, unit: servo, parent: u1, connector: back, axis: yaw,
+             levels_deg: [-90, 90]}
+        """
+    )
+    run = tmp_path / "run"
+    result = run_cli("train", formation, "--sim", "memo", "--out", run, "--quiet")
+    assert result.returncode == 2, result.stderr
+    assert "step" in result.stderr and len(result.stderr.strip().splitlines()) == 1
+    assert not run.exists()
