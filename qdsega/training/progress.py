@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import shutil
 import sys
 from typing import TextIO
 
@@ -24,13 +25,15 @@ class ProgressDisplay:
 
     def start(self, *, completed: int, generations: int) -> None:
         if self.interactive:
+            size = shutil.get_terminal_size()  # 80 x 24 where the terminal reports 0 x 0
             self._bar = tqdm(
                 total=generations,
                 initial=completed,
-                unit="gen",
                 desc="generation",
+                bar_format="{desc} {n_fmt}/{total_fmt} |{bar:8}| {remaining} left{postfix}",
                 file=self.stream,
-                dynamic_ncols=True,
+                ncols=size.columns,
+                nrows=size.lines,
             )
 
     def generation(self, report: GenerationReport) -> None:
