@@ -67,6 +67,10 @@ def run(args: argparse.Namespace) -> int:
         config = resolve_config(preset=args.preset, file=args.config, overrides=_overrides(args))
         out = args.out or RUNS_DIR / f"{args.formation.stem}-{config.sim}-seed{config.seed}"
         if args.overwrite and out.is_dir():
+            if not (out / "config.yaml").is_file():
+                raise FormationError(
+                    "--overwrite deletes run folders only (no config.yaml)", file=out
+                )
             shutil.rmtree(out)
         start = partial(train, args.formation, config, out, progress=progress)
     try:

@@ -78,3 +78,20 @@ def test_bad_input_is_one_line_and_leaves_no_file(tmp_path):
         assert result.returncode == 2, (args, result.stderr)
         assert message in result.stderr and len(result.stderr.strip().splitlines()) == 1
     assert sorted(p.name for p in tmp_path.iterdir()) == ["wave.csv"]
+
+
+def test_without_egl_it_warns_once_and_still_renders(tmp_path, monkeypatch, capsys):
+    from qdsega.cli import main
+    from qdsega.simulation.bullet import BulletSimulation
+
+    monkeypatch.setattr(BulletSimulation, "_load_egl", lambda self: False)
+    out = tmp_path / "tiny.gif"
+    status = main(
+        ["render", SNAKE, "--postures", str(_postures(tmp_path)), "-o", str(out),
+         "--fps", "2", "--width", "48", "--height", "32"]
+    )  # fmt: skip
+    captured = capsys.readouterr()
+    assert status == 0
+    assert captured.err == "qdsega render: warning: EGL unavailable, rendered with TinyRenderer\n"
+    frames = iio.imread(out)
+    assert frames.shape[1:] == (32, 48, 3) and frames.std() > 10

@@ -128,6 +128,13 @@ def test_an_existing_run_folder_is_never_overwritten(tmp_path):
     refused = run_cli(*args, "--out", run, "--quiet")
     assert refused.returncode == 2 and "--resume" in refused.stderr
     assert (run / "keep.txt").read_text() == "mine"
+    not_a_run = run_cli(*args, "--out", run, "--quiet", "--overwrite")
+    assert not_a_run.returncode == 2 and "run folders only" in not_a_run.stderr
+    assert (run / "keep.txt").read_text() == "mine"
+    (run / "keep.txt").unlink()
+    first = run_cli(*args, "--out", run, "--quiet")
+    assert first.returncode == 0, first.stderr
+    (run / "keep.txt").write_text("old run")
     replaced = run_cli(*args, "--out", run, "--quiet", "--overwrite")
     assert replaced.returncode == 0, replaced.stderr
     assert not (run / "keep.txt").exists() and (run / "summary.json").is_file()
