@@ -162,8 +162,9 @@ class BulletSimulation:
 
     def step(self, steps: int = 1) -> None:
         """Advance the physics by ``steps`` time steps."""
+        step_simulation = self.client.stepSimulation  # one client lookup, not one per step
         for _ in range(steps):
-            self.client.stepSimulation()
+            step_simulation()
 
     def joint_positions(self) -> np.ndarray:
         """Actuated joint angles (rad), shape (J,)."""
