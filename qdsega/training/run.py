@@ -206,6 +206,7 @@ def _run(
                         _report(checkpoint, generation, config, session_start, resumed_at)
                     )
         except KeyboardInterrupt:
+            world.save(out)  # transitions measured since the checkpoint are kept too
             raise TrainingInterrupted(out, checkpoint.learner.completed) from None
         return _finish(out, formation, config, world, checkpoint)
     finally:
