@@ -103,7 +103,7 @@ class LowerAgent:
 
     def pose(self) -> BodyPose:
         """The body's pose now."""
-        return self.estimator.pose(*self.sim.unit_states())
+        return self.estimator.trunk_pose(*self.sim.unit_states(self.estimator.trunk_rows))
 
     def execute(
         self, levels: np.ndarray, *, on_physics_step: Callable[[], None] | None = None
@@ -137,11 +137,11 @@ class LowerAgent:
         return Outcome(pose, None)
 
     def _check(self) -> tuple[BodyPose, str | None]:
-        positions, quaternions = self.sim.unit_states()
-        if not (np.all(np.isfinite(positions)) and np.all(np.isfinite(quaternions))):
-            nan = BodyPose(math.nan, math.nan, math.nan, math.nan)
-            return nan, "physics state is not finite"
-        pose = self.estimator.pose(positions, quaternions)
+        # The trunk's state only: a non-finite value anywhere in an articulated body reaches
+        # every link within one step.
+        pose = self.pose()
+        if not all(map(math.isfinite, (pose.x_m, pose.y_m, pose.heading_rad, pose.max_tilt_rad))):
+            return pose, "physics state is not finite"
         if pose.max_tilt_rad > self.config.max_tilt_rad:
             return pose, f"body flipped (tilt {math.degrees(pose.max_tilt_rad):.0f} deg)"
         if self._trunk_names and self._trunk_names & self.sim.ground_contacts():

@@ -66,6 +66,13 @@ class BulletSimulation:
             self.body_id = self.client.loadURDF(str(urdf_file), flags=flags)
         self.link_index = self._link_indices()
         self._unit_link_indices = [self.link_index[u.name] for u in self.formation.units]
+        self._unit_of_link = {index: name for name, index in self.link_index.items()}
+        # Called every few physics steps: bound once, as BulletClient builds a new partial
+        # function on every attribute lookup.
+        self._step_simulation = self.client.stepSimulation
+        self._get_link_states = self.client.getLinkStates
+        self._get_base_pose = self.client.getBasePositionAndOrientation
+        self._get_contact_points = self.client.getContactPoints
         joint_index = self._joint_indices()
         self.joint_names = tuple(j.name for j in self.formation.joints)
         self.joint_ids = np.array([joint_index[name] for name in self.joint_names], dtype=int)
@@ -162,9 +169,8 @@ class BulletSimulation:
 
     def step(self, steps: int = 1) -> None:
         """Advance the physics by ``steps`` time steps."""
-        step_simulation = self.client.stepSimulation  # one client lookup, not one per step
         for _ in range(steps):
-            step_simulation()
+            self._step_simulation()
 
     def joint_positions(self) -> np.ndarray:
         """Actuated joint angles (rad), shape (J,)."""
@@ -178,19 +184,23 @@ class BulletSimulation:
         position, orientation = self.client.getBasePositionAndOrientation(self.body_id)
         return np.array(position), np.array(orientation)
 
-    def unit_states(self) -> tuple[np.ndarray, np.ndarray]:
+    def unit_states(self, rows: Sequence[int] | None = None) -> tuple[np.ndarray, np.ndarray]:
         """Centre of mass (m), shape (U, 3), and orientation quaternion (x, y, z, w), shape
-        (U, 4), of every unit in formation order, in the world frame."""
-        # PyBullet's base frame is the root unit's inertial frame: its position is the COM.
-        base_com, base_orientation = self.client.getBasePositionAndOrientation(self.body_id)
-        indices = [i for i in self._unit_link_indices if i >= 0]
-        states = self.client.getLinkStates(self.body_id, indices) if indices else []
-        by_index = {i: (state[0], state[1]) for i, state in zip(indices, states, strict=True)}
-        by_index[-1] = (base_com, base_orientation)
-        rows = [by_index[i] for i in self._unit_link_indices]
+        (U, 4), in the world frame, of every unit in formation order (or of the units at
+        ``rows`` of that order, in the order given)."""
+        links = (
+            self._unit_link_indices if rows is None else [self._unit_link_indices[r] for r in rows]
+        )
+        children = [i for i in links if i >= 0]
+        states = self._get_link_states(self.body_id, children) if children else []
+        by_index = {i: (state[0], state[1]) for i, state in zip(children, states, strict=True)}
+        if -1 in links:
+            # PyBullet's base frame is the root unit's inertial frame: its position is the COM.
+            by_index[-1] = self._get_base_pose(self.body_id)
+        found = [by_index[i] for i in links]
         return (
-            np.array([r[0] for r in rows], dtype=float),
-            np.array([r[1] for r in rows], dtype=float),
+            np.array([f[0] for f in found], dtype=float).reshape(-1, 3),
+            np.array([f[1] for f in found], dtype=float).reshape(-1, 4),
         )
 
     def save_state(self) -> int:
@@ -207,9 +217,8 @@ class BulletSimulation:
 
     def ground_contacts(self) -> set[str]:
         """Names of the units that touch the ground now."""
-        names = {index: name for name, index in self.link_index.items()}
-        points = self.client.getContactPoints(bodyA=self.body_id, bodyB=self.plane_id)
-        return {names[p[3]] for p in points}
+        points = self._get_contact_points(bodyA=self.body_id, bodyB=self.plane_id)
+        return {self._unit_of_link[p[3]] for p in points}
 
     # -- pictures ------------------------------------------------------------------------------
 

@@ -48,3 +48,12 @@ def test_tilt_of_a_rolled_unit():
     quaternions[2] = [math.sin(roll / 2), 0.0, 0.0, math.cos(roll / 2)]
     pose = estimator.pose(np.zeros((5, 3)), quaternions)
     assert pose.max_tilt_rad == pytest.approx(roll)
+
+
+def test_a_non_finite_state_gives_a_non_finite_pose():
+    snake = load_formation("assemblies/snake5.yaml")
+    estimator = BodyPoseEstimator(formation=snake)
+    quaternions = np.tile([0.0, 0.0, 0.0, 1.0], (5, 1))
+    quaternions[1] = [math.nan, 0.0, 0.0, 1.0]
+    pose = estimator.pose(np.zeros((5, 3)), quaternions)
+    assert math.isnan(pose.max_tilt_rad) and math.isnan(pose.heading_rad)
