@@ -182,7 +182,7 @@ PRESETS: dict[str, QDSEGAConfig] = {
 """Section 4's settings: 4.1.3 (multi-legged robot) and 4.2.3 (snake-like robot); and
 ``memo-legged``, the legged settings with 40 individuals and 30 generations, for legged bodies
 in PyBullet: the paper's 200 x 200 would measure about 283,000 transitions of legged12 (hours
-on two cores); this measured 7,156 in 9.5 minutes (seed 0, two workers)."""
+on two cores); this measured 6,138 in 6.5 minutes (seed 0, two workers)."""
 
 
 def with_budget(
