@@ -16,6 +16,11 @@ from qdsega.training.run import TrainingInterrupted, budget_overrides, resume, t
 NAME = "train"
 HELP = "learn locomotion with QDSEGA and write a run folder (or continue one with --resume)"
 RUNS_DIR = Path("runs")
+_RUN_OPTIONS = (
+    "sim", "workers", "preset", "config", "seed", "out", "overwrite", "generations", "trials",
+    "light_bearing_deg",
+)  # fmt: skip
+"""Options that configure a new run, which --resume does not take."""
 """Where run folders go when --out is not given."""
 
 
@@ -30,14 +35,14 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--sim",
         choices=SIMULATORS,
-        default="msm",
+        default=None,
         help="world: msm (Minimal Simulation Model, legged only), memo (PyBullet "
         "transitions measured once each) or pybullet (every step simulated); default msm",
     )
     parser.add_argument(
         "--workers", type=int, metavar="N", help="processes measuring memo transitions"
     )
-    parser.add_argument("--preset", default="paper-legged", help=f"one of {', '.join(PRESETS)}")
+    parser.add_argument("--preset", help=f"one of {', '.join(PRESETS)}; default paper-legged")
     parser.add_argument("--config", type=Path, metavar="FILE.yaml", help="overrides (YAML)")
     parser.add_argument("--seed", type=int, help="random seed (default: the config's, 0)")
     parser.add_argument(
@@ -57,14 +62,21 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 def run(args: argparse.Namespace) -> int:
     progress = None if args.quiet else ProgressDisplay()
     if args.resume is not None:
-        if args.formation is not None:
-            raise FormationError("--resume takes the run folder alone, not a formation")
+        given = [
+            f"--{k.replace('_', '-')}"
+            for k in _RUN_OPTIONS
+            if getattr(args, k) not in (None, False)
+        ]
+        if args.formation is not None or given:
+            extra = ", ".join(([str(args.formation)] if args.formation else []) + given)
+            raise FormationError(f"--resume continues a run as it was configured; drop {extra}")
         out = args.resume
         start = partial(resume, out, progress=progress)
     else:
         if args.formation is None:
             raise FormationError("give a FORMATION.yaml to train, or --resume RUN")
-        config = resolve_config(preset=args.preset, file=args.config, overrides=_overrides(args))
+        preset = args.preset or "paper-legged"
+        config = resolve_config(preset=preset, file=args.config, overrides=_overrides(args))
         out = args.out or RUNS_DIR / f"{args.formation.stem}-{config.sim}-seed{config.seed}"
         if args.overwrite and out.is_dir():
             if not (out / "config.yaml").is_file():
@@ -96,7 +108,7 @@ def run(args: argparse.Namespace) -> int:
 
 def _overrides(args: argparse.Namespace) -> dict[str, object]:
     overrides = budget_overrides(generations=args.generations, trials=args.trials, seed=args.seed)
-    overrides["sim"] = args.sim
+    overrides["sim"] = args.sim or "msm"
     if args.workers is not None:
         overrides["workers"] = args.workers
     if args.light_bearing_deg is not None:

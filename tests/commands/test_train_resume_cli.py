@@ -157,6 +157,7 @@ def test_default_run_folder_names_formation_sim_and_seed(tmp_path):
     ("args", "message"),
     [
         (["--resume", "nowhere"], "run folder not found"),
+        (["--resume", "nowhere", "--seed", "3"], "drop --seed"),
         ([ASSEMBLIES_DIR / "snake5.yaml", "--preset", "fastest"], "unknown preset"),
         ([ASSEMBLIES_DIR / "snake5.yaml", "--sim", "msm"], "legged formation"),
         ([], "give a FORMATION.yaml"),
