@@ -19,7 +19,6 @@ from __future__ import annotations
 
 import math
 import multiprocessing
-import os
 import signal
 from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
@@ -28,6 +27,7 @@ import numpy as np
 
 from qdsega.agent.world import Transitions
 from qdsega.assembly import assemble
+from qdsega.atomic import replaced_atomically
 from qdsega.description import Formation
 from qdsega.locomotion.lower_agent import LowerAgent, LowerAgentConfig
 from qdsega.simulation import PhysicsSettings
@@ -104,9 +104,8 @@ class MeasuredTransitions:
             len(keys), 2 * self.n_joints
         )
         values = np.array([self._table[k] for k in keys]).reshape(len(keys), _FIELDS)
-        partial = file.with_name(file.name + ".partial.npz")
-        np.savez_compressed(partial, pairs=pairs, values=values)
-        os.replace(partial, file)
+        with replaced_atomically(file) as partial:
+            np.savez_compressed(partial, pairs=pairs, values=values)
 
     def load(self, file: Path) -> None:
         """Add the transitions stored in ``file`` (written by :meth:`save`)."""

@@ -2,11 +2,12 @@
 
 from __future__ import annotations
 
-import os
 from pathlib import Path
 
 import imageio.v3 as iio
 import numpy as np
+
+from qdsega.atomic import replaced_atomically
 
 VIDEO_SUFFIXES = (".mp4", ".gif")
 
@@ -23,8 +24,7 @@ def write_video(frames: list[np.ndarray], out: Path, *, fps: int) -> None:
     if not frames:
         raise ValueError("no frames to write")
     out.parent.mkdir(parents=True, exist_ok=True)
-    partial = out.with_name(f".{out.stem}.partial{out.suffix}")
-    try:
+    with replaced_atomically(out) as partial:
         if out.suffix.lower() == ".gif":
             iio.imwrite(partial, np.stack(frames), duration=1000.0 / fps, loop=0)
         else:
@@ -36,6 +36,3 @@ def write_video(frames: list[np.ndarray], out: Path, *, fps: int) -> None:
                 macro_block_size=1,
                 plugin="FFMPEG",
             )
-        os.replace(partial, out)
-    finally:
-        partial.unlink(missing_ok=True)

@@ -11,7 +11,6 @@ file and renamed over the old one, so it is always whole.
 from __future__ import annotations
 
 import json
-import os
 import zipfile
 from dataclasses import dataclass
 from pathlib import Path
@@ -20,6 +19,7 @@ import numpy as np
 
 from qdsega.agent.learner import LearnerState
 from qdsega.agent.space import ExplorationSpace
+from qdsega.atomic import replaced_atomically
 from qdsega.errors import FormationError
 
 CHECKPOINT_FILE = "checkpoint.npz"
@@ -78,9 +78,8 @@ def save_checkpoint(run: Path, checkpoint: Checkpoint) -> None:
         "env_steps": checkpoint.env_steps,
         "elapsed_s": checkpoint.elapsed_s,
     }
-    partial = run / "checkpoint.partial.npz"
-    np.savez(partial, meta=np.array(json.dumps(meta)), **arrays)
-    os.replace(partial, run / CHECKPOINT_FILE)
+    with replaced_atomically(run / CHECKPOINT_FILE) as partial:
+        np.savez(partial, meta=np.array(json.dumps(meta)), **arrays)
 
 
 def load_checkpoint(run: Path) -> Checkpoint:

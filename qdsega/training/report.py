@@ -10,10 +10,10 @@ from __future__ import annotations
 import base64
 import html
 import json
-import os
 from pathlib import Path
 from typing import Any
 
+from qdsega.atomic import replaced_atomically
 from qdsega.errors import FormationError
 from qdsega.training.plots import FIGURES
 
@@ -74,9 +74,8 @@ def write_report(run: Path | str, out: Path | None = None) -> Path:
         + "\n</body></html>\n"
     )
     out = out or run / REPORT_FILE
-    partial = out.with_name(out.name + ".partial")
-    partial.write_text(page, encoding="utf-8")
-    os.replace(partial, out)
+    with replaced_atomically(out) as partial:
+        partial.write_text(page, encoding="utf-8")
     return out
 
 

@@ -26,7 +26,6 @@ from __future__ import annotations
 import csv
 import json
 import math
-import os
 import time
 from dataclasses import dataclass
 from pathlib import Path
@@ -36,6 +35,7 @@ import numpy as np
 import yaml
 
 from qdsega.agent.learner import QDSEGA, Generation, greedy_postures
+from qdsega.atomic import replaced_atomically
 from qdsega.description import Formation, Light, load_formation
 from qdsega.errors import FormationError
 from qdsega.training.checkpoint import Checkpoint, load_checkpoint, save_checkpoint
@@ -279,8 +279,10 @@ def _report(
 
 def _write_metrics(out: Path, metrics: np.ndarray) -> None:
     """metrics.csv from the checkpoint's rows, written then renamed."""
-    partial = out / "metrics.partial.csv"
-    with partial.open("w", newline="", encoding="utf-8") as stream:
+    with (
+        replaced_atomically(out / "metrics.csv") as partial,
+        partial.open("w", newline="", encoding="utf-8") as stream,
+    ):
         writer = csv.writer(stream)
         writer.writerow(METRIC_COLUMNS)
         for row in metrics:
@@ -288,7 +290,6 @@ def _write_metrics(out: Path, metrics: np.ndarray) -> None:
                 f"{value:.6f}" if name in _FLOAT_COLUMNS else str(int(value))
                 for name, value in zip(METRIC_COLUMNS, row, strict=True)
             )
-    os.replace(partial, out / "metrics.csv")
 
 
 def _finish(
@@ -344,9 +345,8 @@ def _finish(
         "light_xy": list(light),
         "wall_s": checkpoint.elapsed_s,
     }
-    partial = out / "summary.partial.json"
-    partial.write_text(json.dumps(summary, indent=2) + "\n", encoding="utf-8")
-    os.replace(partial, out / SUMMARY_FILE)
+    with replaced_atomically(out / SUMMARY_FILE) as partial:
+        partial.write_text(json.dumps(summary, indent=2) + "\n", encoding="utf-8")
     return summary
 
 
