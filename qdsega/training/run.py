@@ -205,10 +205,10 @@ def _run(
                     progress.generation(
                         _report(checkpoint, generation, config, session_start, resumed_at)
                     )
+            return _finish(out, formation, config, world, checkpoint)
         except KeyboardInterrupt:
             world.save(out)  # transitions measured since the checkpoint are kept too
             raise TrainingInterrupted(out, checkpoint.learner.completed) from None
-        return _finish(out, formation, config, world, checkpoint)
     finally:
         world.close()
 
