@@ -15,7 +15,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> int:
     # Imported here: it starts PyBullet, which the other commands need not load.
-    from qdsega.training.evaluation import EVALUATION_FILE, evaluate_run
+    from qdsega.training.evaluation import evaluate_run
+    from qdsega.training.run_folder import EVALUATION_FILE
 
     result = evaluate_run(args.run)
     reference = result["reference"]

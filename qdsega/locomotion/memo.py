@@ -69,6 +69,7 @@ class MeasuredTransitions:
         self._start = np.array(start_levels or formation.rest_levels(), dtype=np.int64)
         self._table: dict[bytes, np.ndarray] = {}
         self._pool: ProcessPoolExecutor | None = None
+        self._stored: tuple[Path, int] | None = None  # file holding the whole table, its size
         self.measured = 0
         """Transitions measured by this object (not loaded from a file)."""
 
@@ -98,7 +99,10 @@ class MeasuredTransitions:
         )
 
     def save(self, file: Path) -> None:
-        """Write every known transition to ``file`` (npz), atomically."""
+        """Write every known transition to ``file`` (npz), atomically; nothing to do when
+        ``file`` already holds them all (the table only grows)."""
+        if self._stored == (file, len(self._table)):
+            return
         keys = sorted(self._table)
         pairs = np.array([np.frombuffer(k, dtype=np.int64) for k in keys]).reshape(
             len(keys), 2 * self.n_joints
@@ -106,6 +110,7 @@ class MeasuredTransitions:
         values = np.array([self._table[k] for k in keys]).reshape(len(keys), _FIELDS)
         with replaced_atomically(file) as partial:
             np.savez_compressed(partial, pairs=pairs, values=values)
+        self._stored = (file, len(self._table))
 
     def load(self, file: Path) -> None:
         """Add the transitions stored in ``file`` (written by :meth:`save`)."""
@@ -115,6 +120,8 @@ class MeasuredTransitions:
             raise ValueError(f"{file} does not hold transitions of {self.formation.name}")
         for pair, value in zip(pairs, values, strict=True):
             self._table[pair.astype(np.int64).tobytes()] = value
+        if len(self._table) == len(pairs):  # the table is exactly the file's
+            self._stored = (file, len(self._table))
 
     def close(self) -> None:
         if self._pool is not None:

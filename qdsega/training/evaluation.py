@@ -28,15 +28,19 @@ from typing import Any
 
 import numpy as np
 
+from qdsega.atomic import replaced_atomically
 from qdsega.description import Formation
 from qdsega.errors import FormationError
 from qdsega.locomotion import reference_gaits
 from qdsega.locomotion.env import LocomotionEnv
 from qdsega.training.config import TrainingConfig, read_run_config
 from qdsega.training.run import prepare_formation
+from qdsega.training.run_folder import (
+    EVALUATION_FILE,
+    read_summary,
+    require_finished,
+)
 from qdsega.training.worlds import task_of
-
-EVALUATION_FILE = "evaluation.json"
 
 
 def evaluate_run(run: Path | str) -> dict[str, Any]:
@@ -69,7 +73,8 @@ def evaluate_run(run: Path | str) -> dict[str, Any]:
     }
     if len(formation.joints) >= 2 and len(learned["postures"]) >= 4:
         result["wave"] = wave_of(formation, np.array(learned["postures"]))
-    (run / EVALUATION_FILE).write_text(json.dumps(result, indent=2) + "\n", encoding="utf-8")
+    with replaced_atomically(run / EVALUATION_FILE) as partial:
+        partial.write_text(json.dumps(result, indent=2) + "\n", encoding="utf-8")
     return result
 
 
@@ -184,20 +189,13 @@ def load_run(run: Path) -> tuple[dict[str, Any], TrainingConfig, dict[str, np.nd
     Raises:
         FormationError: missing folder or files, or files that do not parse.
     """
-    files = {name: run / name for name in ("summary.json", "config.yaml", "policy.npz")}
-    if not run.is_dir():
-        raise FormationError("run folder not found", file=run)
-    for name, file in files.items():
-        if not file.is_file():
-            raise FormationError(f"not a finished run folder (no {name})", file=run)
+    require_finished(run, "config.yaml", "policy.npz")
     config = read_run_config(run)
+    summary = read_summary(run)
     try:
-        summary = json.loads(files["summary.json"].read_text(encoding="utf-8"))
-        with np.load(files["policy.npz"]) as stored:
+        with np.load(run / "policy.npz") as stored:
             policy = {key: stored[key] for key in ("q", "actions", "postures", "next_interior")}
     except (OSError, ValueError, KeyError, zipfile.BadZipFile) as exc:
         message = f"corrupt run folder ({exc.__class__.__name__}: {exc})"
         raise FormationError(message, file=run) from None
-    if not isinstance(summary, dict) or "formation_file" not in summary:
-        raise FormationError("corrupt run folder (summary.json is not a summary)", file=run)
     return summary, config, policy

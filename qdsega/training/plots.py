@@ -4,7 +4,6 @@ Fig. 12 (gait of a legged body), Fig. 13 (poses of a snake) and the joint angles
 from __future__ import annotations
 
 import csv
-import json
 from pathlib import Path
 from typing import Any
 
@@ -16,6 +15,7 @@ import numpy as np
 from matplotlib.ticker import MaxNLocator
 
 from qdsega.errors import FormationError
+from qdsega.training.run_folder import read_evaluation, read_summary, require_finished
 
 LEARNING_CURVE = "learning_curve.png"
 QTABLE_SIZE = "qtable_size.png"
@@ -43,19 +43,14 @@ def plot_run(run: Path | str) -> tuple[list[Path], list[str]]:
         FormationError: the folder is not a finished run folder, or its files do not parse.
     """
     run = Path(run)
-    for name in ("trajectories.npz", "metrics.csv", "summary.json"):
-        if not (run / name).is_file():
-            raise FormationError(f"not a finished run folder (no {name})", file=run)
+    require_finished(run, "trajectories.npz", "metrics.csv")
+    summary, evaluation = read_summary(run), read_evaluation(run)
     try:
         with np.load(run / "trajectories.npz") as data:
             poses, legs, names = data["poses"], data["gait_legs"], data["leg_names"]
             light, angles, joints = data["light"], data["gait_angles_deg"], data["joint_names"]
         with (run / "metrics.csv").open(encoding="utf-8") as stream:
             metrics = {k: np.array(v, dtype=float) for k, v in _columns(stream).items()}
-        summary = json.loads((run / "summary.json").read_text(encoding="utf-8"))
-        evaluation = None
-        if (run / "evaluation.json").is_file():
-            evaluation = json.loads((run / "evaluation.json").read_text(encoding="utf-8"))
     except (OSError, ValueError, KeyError) as exc:
         raise FormationError(f"corrupt run folder ({exc})", file=run) from None
     paths = [
@@ -116,10 +111,7 @@ def _learning_curve(
     ax.set_title(f"{summary['formation']}: learning curve")
     ax.legend(fontsize=8, loc="lower right")
     ax.grid(alpha=0.3)
-    fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
-    return path
+    return _save(fig, path)
 
 
 def _qtable_size(path: Path, metrics: dict[str, np.ndarray]) -> Path:
@@ -137,10 +129,7 @@ def _qtable_size(path: Path, metrics: dict[str, np.ndarray]) -> Path:
     bottom.xaxis.set_major_locator(MaxNLocator(integer=True))
     bottom.grid(alpha=0.3)
     fig.suptitle("Exploration space per generation (states include the exterior bins)")
-    fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
-    return path
+    return _save(fig, path)
 
 
 def _snake_poses(path: Path, units: np.ndarray, light: np.ndarray) -> Path:
@@ -178,10 +167,7 @@ def _snake_poses(path: Path, units: np.ndarray, light: np.ndarray) -> Path:
     fig.suptitle(
         "Snake seen from above, replayed in PyBullet\n(red: head, dotted: its path, arrow: light)"
     )
-    fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
-    return path
+    return _save(fig, path)
 
 
 def _trajectories(path: Path, poses: np.ndarray, light: np.ndarray) -> Path:
@@ -206,10 +192,7 @@ def _trajectories(path: Path, poses: np.ndarray, light: np.ndarray) -> Path:
         ax.set_ylim(-reach * 0.6, reach * 0.6)
     axes[-1].set_xlabel("x (m)")
     fig.suptitle("Greedy trial per generation (arrow: toward the light)")
-    fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
-    return path
+    return _save(fig, path)
 
 
 def _gait(path: Path, legs: np.ndarray, names: np.ndarray) -> Path:
@@ -222,10 +205,7 @@ def _gait(path: Path, legs: np.ndarray, names: np.ndarray) -> Path:
     ax.set_yticks(range(len(names)), [str(n) for n in names])
     ax.set_xlabel("step (0: initial posture)")
     ax.set_title("Acquired gait: 1 fwd+down, 2 back+down, 3 fwd+up, 4 back+up")
-    fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
-    return path
+    return _save(fig, path)
 
 
 def _joint_angles(path: Path, angles: np.ndarray, names: np.ndarray) -> Path:
@@ -239,6 +219,11 @@ def _joint_angles(path: Path, angles: np.ndarray, names: np.ndarray) -> Path:
     ax.set_yticks([-k * spacing for k in range(count)], [str(n) for n in names])
     ax.set_xlabel("step (0: initial posture)")
     ax.set_title(f"Joint angles of the acquired motion (each line spans {spacing:.0f} deg)")
+    return _save(fig, path)
+
+
+def _save(fig: matplotlib.figure.Figure, path: Path) -> Path:
+    """Lay out, write at 120 dpi and close ``fig``; return ``path``."""
     fig.tight_layout()
     fig.savefig(path, dpi=120)
     plt.close(fig)

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
 
 import numpy as np
@@ -14,8 +13,9 @@ from qdsega.rendering.camera import CameraConfig
 from qdsega.rendering.recorder import Film, record
 from qdsega.rendering.video import VIDEO_SUFFIXES, write_video
 from qdsega.simulation import PhysicsSettings
-from qdsega.training.evaluation import EVALUATION_FILE, load_run, replay_policy
+from qdsega.training.evaluation import load_run, replay_policy
 from qdsega.training.run import prepare_formation
+from qdsega.training.run_folder import read_evaluation
 from qdsega.training.worlds import task_of
 
 
@@ -26,9 +26,9 @@ def render_run(run: Path, out: Path, camera: CameraConfig) -> Film:
     summary, config, policy = load_run(run)
     formation = prepare_formation(summary["formation_file"], config)
     task = task_of(config)
-    evaluation = run / EVALUATION_FILE
-    if evaluation.is_file():
-        postures = np.array(json.loads(evaluation.read_text(encoding="utf-8"))["postures"])
+    evaluation = read_evaluation(run)
+    if evaluation is not None:
+        postures = np.array(evaluation["postures"])
     else:
         env = LocomotionEnv(formation=formation, task=task, physics=config.physics)
         try:

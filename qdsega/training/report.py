@@ -16,6 +16,7 @@ from typing import Any
 from qdsega.atomic import replaced_atomically
 from qdsega.errors import FormationError
 from qdsega.training.plots import FIGURES
+from qdsega.training.run_folder import read_evaluation, read_summary, require_finished
 
 REPORT_FILE = "report.html"
 _MEDIA = {".png": "image/png", ".gif": "image/gif", ".mp4": "video/mp4"}
@@ -38,21 +39,12 @@ def write_report(run: Path | str, out: Path | None = None) -> Path:
         FormationError: not a finished run folder, or its files do not parse.
     """
     run = Path(run)
-    if not run.is_dir():
-        raise FormationError("run folder not found", file=run)
-    for name in ("summary.json", "config.yaml"):
-        if not (run / name).is_file():
-            raise FormationError(f"not a finished run folder (no {name})", file=run)
+    require_finished(run, "config.yaml")
+    summary, evaluation = read_summary(run), read_evaluation(run)
     try:
-        summary = json.loads((run / "summary.json").read_text(encoding="utf-8"))
         config = (run / "config.yaml").read_text(encoding="utf-8")
-        evaluation = None
-        if (run / "evaluation.json").is_file():
-            evaluation = json.loads((run / "evaluation.json").read_text(encoding="utf-8"))
-    except (OSError, ValueError) as exc:
+    except OSError as exc:
         raise FormationError(f"corrupt run folder ({exc})", file=run) from None
-    if not isinstance(summary, dict) or "formation" not in summary:
-        raise FormationError("corrupt run folder (summary.json is not a summary)", file=run)
     title = f"qdsega run: {summary['formation']} ({summary.get('sim')}, seed {summary.get('seed')})"
     parts = [
         f"<h1>{html.escape(title)}</h1>",

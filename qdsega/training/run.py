@@ -40,6 +40,7 @@ from qdsega.description import Formation, Light, load_formation
 from qdsega.errors import FormationError
 from qdsega.training.checkpoint import Checkpoint, load_checkpoint, save_checkpoint
 from qdsega.training.config import TrainingConfig, read_run_config
+from qdsega.training.run_folder import SUMMARY_FILE
 from qdsega.training.worlds import (
     TrainingWorld,
     build_world,
@@ -65,7 +66,6 @@ best and mean trial distance toward the light (m), the greedy policy's distance 
 that ended in a fall, learning steps (commands), wall seconds of the generation."""
 
 _FLOAT_COLUMNS = {"best_distance_m", "mean_distance_m", "greedy_distance_m", "wall_s"}
-SUMMARY_FILE = "summary.json"
 
 
 @dataclass(frozen=True)
