@@ -190,7 +190,11 @@ def _run(
             checkpoint = _first_checkpoint(formation, config, learner)
             save_checkpoint(out, checkpoint)
         else:
-            learner.restore(checkpoint.learner)
+            try:
+                learner.restore(checkpoint.learner)
+            except ValueError as exc:
+                message = f"checkpoint.npz does not fit config.yaml ({exc})"
+                raise FormationError(message, file=out) from None
         first_elapsed, resumed_at = checkpoint.elapsed_s, checkpoint.learner.completed
         if progress is not None:
             progress.start(completed=resumed_at, generations=config.agent.genetic.generations)
