@@ -199,3 +199,18 @@ def test_a_joint_too_wide_for_one_step_is_refused_before_training(write_formatio
     assert result.returncode == 2, result.stderr
     assert "step" in result.stderr and len(result.stderr.strip().splitlines()) == 1
     assert not run.exists()
+
+
+def test_resume_refuses_a_checkpoint_that_does_not_fit_the_configuration(tmp_path):
+    run = tmp_path / "run"
+    result = run_cli(
+        "train", ASSEMBLIES_DIR / "quadruped.yaml", "--generations", "2", "--trials", "10",
+        "--out", run, "--quiet",
+    )  # fmt: skip
+    assert result.returncode == 0
+    (run / "summary.json").unlink()
+    config = (run / "config.yaml").read_text()
+    (run / "config.yaml").write_text(config.replace("population: 200", "population: 10"))
+    resumed = run_cli("train", "--resume", run)
+    assert resumed.returncode == 2 and "does not fit config.yaml" in resumed.stderr
+    assert len(resumed.stderr.strip().splitlines()) == 1
