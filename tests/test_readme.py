@@ -14,8 +14,9 @@ README = Path(ASSEMBLIES_DIR).parent / "README.md"
 TINY = """\
 workers: 1
 agent:
-  learning: {trials: 20, trial_steps: 4}
+  learning: {trials: 20}
   genetic: {population: 6}
+task: {trial_steps: 4}
 """
 
 

@@ -6,9 +6,10 @@ each explained in the field's documentation and in ``qdsega/agent/README.md``.
 
 from __future__ import annotations
 
-import itertools
 from dataclasses import dataclass, field, replace
 from typing import Literal
+
+from qdsega.task import TaskConfig
 
 CrossoverKind = Literal["uniform", "one-point"]
 SelectionKind = Literal["individuals", "actions"]
@@ -20,56 +21,38 @@ class LearningConfig:
 
     Attributes:
         trials: trials per generation (paper: 10000 legged, 1000 snake).
-        trial_steps: postures commanded per trial unless the robot falls first (open; 30).
-            Ten cycles of the best MSM gait (every leg strokes every third step), so that a
-            trial's distance is decided by the gait more than by how it starts: stepping
-            straight from the start posture into the best gait covers 0.961 of the optimum
-            at 20 steps and 0.966 at 30, but the same gait entered one force unit worse
-            drops to 0.948 at 20 steps (failing the 0.95 criterion with the best gait) and
-            0.958 at 30.
         alpha: learning rate of eq. (1) (paper: 0.5).
         gamma: discount rate of eq. (1) (paper: 0.9).
         temperature_scale: the 150.0 of eq. (18) (paper).
         temperature_rate: the 0.002 of eq. (18), per trial (paper).
         temperature_offset: the +1 in the exponent of eq. (18) (paper).
-        reward_scale: the 100 of eq. (17), per metre of distance gained (paper).
-        penalty: reward when the lower agent fails (open; -100, the reward of a metre lost).
-            The failed step is terminal: eq. (1) with no future term.
-        exterior_bin_edges_deg: exterior states, by the angle from the heading to the light,
-            counter-clockwise. Paper: "four states from -45 to 45 deg each 30 deg", read as
-            edges -45, -15, 15, 45 deg: three bins ahead and one for "outside +-45 deg"
-            (:mod:`qdsega.agent.exterior`).
         carry_q: start each generation's Q-table from the previous one's values where the
             interior posture and the action posture both persist, zeros elsewhere; False
             starts every generation from zeros (open; True: what a generation learnt about
             the actions it hands on is kept, so a good gait is not lost to an unlucky
             exploration).
+
+    The task the learner is rewarded for (trial length, eq. (17), penalty, exterior states)
+    is :class:`qdsega.task.TaskConfig`.
     """
 
     trials: int = 10000
-    trial_steps: int = 30
     alpha: float = 0.5
     gamma: float = 0.9
     temperature_scale: float = 150.0
     temperature_rate: float = 0.002
     temperature_offset: float = 1.0
-    reward_scale: float = 100.0
-    penalty: float = -100.0
-    exterior_bin_edges_deg: tuple[float, ...] = (-45.0, -15.0, 15.0, 45.0)
     carry_q: bool = True
 
     def __post_init__(self) -> None:
-        if self.trials < 1 or self.trial_steps < 1:
-            raise ValueError("trials and trial_steps must be at least 1")
+        if self.trials < 1:
+            raise ValueError(f"trials must be at least 1, got {self.trials}")
         if not 0.0 < self.alpha <= 1.0:
             raise ValueError(f"alpha must be in (0, 1], got {self.alpha}")
         if not 0.0 <= self.gamma < 1.0:
             raise ValueError(f"gamma must be in [0, 1), got {self.gamma}")
         if not self.temperature_scale > 0 or not self.temperature_rate >= 0:
             raise ValueError("temperature_scale must be positive, temperature_rate >= 0")
-        edges = self.exterior_bin_edges_deg
-        if len(edges) < 2 or any(b <= a for a, b in itertools.pairwise(edges)):
-            raise ValueError(f"exterior_bin_edges_deg: need 2+ increasing edges, got {edges}")
 
 
 @dataclass(frozen=True)
@@ -165,19 +148,38 @@ class QDSEGAConfig:
     genetic: GeneticConfig = field(default_factory=GeneticConfig)
 
 
-PRESETS: dict[str, QDSEGAConfig] = {
-    "paper-legged": QDSEGAConfig(),
-    "paper-snake": QDSEGAConfig(
-        learning=LearningConfig(trials=1000),
-        genetic=GeneticConfig(
-            population=30,
-            generations=30,
-            crossover="one-point",
-            crossover_rate=0.5,
-            mutation_rate=0.02,
+@dataclass(frozen=True)
+class Preset:
+    """A named protocol: the learner's settings and the task's rules.
+
+    Attributes:
+        agent: the learner's hyperparameters.
+        task: the task's rules (trial length, reward unit, penalty, exterior states).
+    """
+
+    agent: QDSEGAConfig
+    task: TaskConfig
+
+
+PRESETS: dict[str, Preset] = {
+    "paper-legged": Preset(agent=QDSEGAConfig(), task=TaskConfig()),
+    "paper-snake": Preset(
+        agent=QDSEGAConfig(
+            learning=LearningConfig(trials=1000),
+            genetic=GeneticConfig(
+                population=30,
+                generations=30,
+                crossover="one-point",
+                crossover_rate=0.5,
+                mutation_rate=0.02,
+            ),
         ),
+        task=TaskConfig(),
     ),
-    "memo-legged": QDSEGAConfig(genetic=GeneticConfig(population=40, generations=30)),
+    "memo-legged": Preset(
+        agent=QDSEGAConfig(genetic=GeneticConfig(population=40, generations=30)),
+        task=TaskConfig(),
+    ),
 }
 """Section 4's settings: 4.1.3 (multi-legged robot) and 4.2.3 (snake-like robot); and
 ``memo-legged``, the legged settings with 40 individuals and 30 generations, for legged bodies

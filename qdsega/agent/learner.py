@@ -11,7 +11,6 @@ with one slot per action or per gene (``GeneticConfig.selection``).
 from __future__ import annotations
 
 import copy
-import math
 import time
 from collections.abc import Iterator
 from dataclasses import dataclass
@@ -20,18 +19,20 @@ from typing import Any
 import numpy as np
 
 from qdsega.agent.config import QDSEGAConfig
-from qdsega.agent.exterior import bin_edges_rad
 from qdsega.agent.fitness import fitness
 from qdsega.agent.genetic import random_population, reproduce, roulette_weights
-from qdsega.agent.qlearning import greedy_on_table, learn_on_table
+from qdsega.agent.policy import GreedyPolicy, Rollout, rollout
+from qdsega.agent.qlearning import learn_on_table
 from qdsega.agent.space import ExplorationSpace
-from qdsega.agent.world import TransitionProvider, World
-from qdsega.agent.world_loop import greedy_on_world, learn_on_world
+from qdsega.agent.table_world import TableWorld
+from qdsega.agent.world import TransitionProvider, Transitions, World
+from qdsega.agent.world_loop import learn_on_world
+from qdsega.task import Task
 
 
 @dataclass(frozen=True)
 class Generation:
-    """What one generation learnt, and how its greedy policy walks.
+    """What one generation learnt, and how its greedy policy walks in the learner's world.
 
     Attributes:
         index: generation number, from 1.
@@ -42,10 +43,8 @@ class Generation:
         distances: distance toward the light covered by each trial (m), shape (trials,).
         fell: whether each trial ended in a fall, shape (trials,).
         steps: commands issued while learning.
-        greedy_poses: the greedy trial's poses (x m, y m, theta rad), shape (steps + 1, 3).
-        greedy_actions: its action per step, -1 after a fall, shape (steps,).
-        greedy_fell: whether the greedy trial fell.
-        greedy_distance: distance toward the light it covered (m).
+        greedy: the greedy policy's trial in the learner's world (for a table world: what the
+            table predicts).
         wall_s: wall time of the generation (s).
     """
 
@@ -57,29 +56,13 @@ class Generation:
     distances: np.ndarray
     fell: np.ndarray
     steps: int
-    greedy_poses: np.ndarray
-    greedy_actions: np.ndarray
-    greedy_fell: bool
-    greedy_distance: float
+    greedy: Rollout
     wall_s: float
 
-    def greedy_postures(self) -> np.ndarray:
-        """The greedy trial's postures, initial one first, until it ends, shape (k + 1, J)."""
-        return greedy_postures(self.space, self.greedy_actions, self.greedy_fell)
-
-
-def greedy_postures(space: ExplorationSpace, taken: np.ndarray, fell: bool) -> np.ndarray:
-    """The postures a greedy trial went through, initial one first, shape (k + 1, J).
-
-    Args:
-        space: the generation's space.
-        taken: the trial's action per step, -1 after a fall, shape (steps,).
-        fell: whether the trial ended in a fall (its last command failed: not reached).
-    """
-    taken = taken[taken >= 0]
-    if fell:
-        taken = taken[:-1]
-    return np.vstack([space.postures[:1], space.actions[taken]])
+    @property
+    def policy(self) -> GreedyPolicy:
+        """The generation's greedy policy."""
+        return GreedyPolicy.of(self.space, self.q)
 
 
 @dataclass(frozen=True)
@@ -108,7 +91,7 @@ class QDSEGA:
         levels: level count of each gene character (actuated joint), shape (J,).
         world: a transition table (learning runs compiled) or a step-by-step world such as
             exact physics (the same algorithm in Python, :mod:`qdsega.agent.world_loop`).
-        light_xy: light position (m); trials start at the origin heading +x.
+        task: the rules the learner is rewarded by (a step-by-step world applies them itself).
         rng: the only source of randomness.
     """
 
@@ -118,7 +101,7 @@ class QDSEGA:
         config: QDSEGAConfig,
         levels: np.ndarray,
         world: TransitionProvider | World,
-        light_xy: tuple[float, float],
+        task: Task,
         rng: np.random.Generator,
     ) -> None:
         levels = np.asarray(levels, dtype=np.int64)
@@ -127,17 +110,12 @@ class QDSEGA:
         self.config = config
         self.levels = levels
         self.world = world
-        self.light = np.asarray(light_xy, dtype=np.float64)
+        self.task = task
         self.rng = rng
-        self.edges = bin_edges_rad(config.learning.exterior_bin_edges_deg)
         self.population = random_population(levels, config.genetic.population, rng)
         self.completed = 0
         """Generations learnt so far."""
         self._previous: tuple[ExplorationSpace, np.ndarray] | None = None
-
-    @property
-    def n_exterior(self) -> int:
-        return len(self.edges)
 
     def run(self) -> Iterator[Generation]:
         """Yield every remaining generation in turn (see :meth:`step`)."""
@@ -195,7 +173,7 @@ class QDSEGA:
     def _initial_q(self, space: ExplorationSpace) -> np.ndarray:
         """Zeros, or with ``carry_q`` the previous generation's values where the interior
         posture and the action posture both persist (any exterior state)."""
-        n_exterior = self.n_exterior
+        n_exterior = self.task.n_exterior
         q = np.zeros((space.n_interior, n_exterior, space.n_actions))
         if self.config.learning.carry_q and self._previous is not None:
             old_space, old_q = self._previous
@@ -209,24 +187,23 @@ class QDSEGA:
         return q.reshape(space.n_interior * n_exterior, space.n_actions)
 
     def _learn_generation(self, index: int) -> Generation:
-        """Q-learning over the current population's space, then fitness of its actions."""
+        """Q-learning over the current population's space, its greedy trial, then the fitness
+        of its actions."""
         start = time.perf_counter()
-        learning, fit = self.config.learning, self.config.fitness
+        trials, fit = self.config.learning.trials, self.config.fitness
         space = ExplorationSpace.from_population(self.population, self.world.start_posture())
         q = self._initial_q(space)
         uses = np.zeros(space.n_actions, dtype=np.int64)
-        distances = np.zeros(learning.trials)
-        fell = np.zeros(learning.trials, dtype=np.bool_)
-        poses = np.zeros((learning.trial_steps + 1, 3))
-        actions = np.zeros(learning.trial_steps, dtype=np.int64)
+        distances = np.zeros(trials)
+        fell = np.zeros(trials, dtype=np.bool_)
         if isinstance(self.world, World):
-            steps, greedy_fell, greedy_distance = self._learn_in_world(
-                space, q, uses, distances, fell, poses, actions
-            )
+            steps = self._learn_in_world(space, q, uses, distances, fell)
+            greedy_world: World = self.world
         else:
-            steps, greedy_fell, greedy_distance = self._learn_on_table(
-                space, q, uses, distances, fell, poses, actions
-            )
+            table = self.world.transitions(space.postures, space.actions)
+            steps = self._learn_on_table(space, table, q, uses, distances, fell)
+            greedy_world = TableWorld(space=space, table=table, task=self.task)
+        greedy = rollout(GreedyPolicy.of(space, q), greedy_world, steps=self.task.trial_steps)
         self._previous = (space, q)
         return Generation(
             index=index,
@@ -237,10 +214,7 @@ class QDSEGA:
             distances=distances,
             fell=fell,
             steps=int(steps),
-            greedy_poses=poses,
-            greedy_actions=actions,
-            greedy_fell=bool(greedy_fell),
-            greedy_distance=greedy_distance,
+            greedy=greedy,
             wall_s=time.perf_counter() - start,
         )
 
@@ -253,40 +227,40 @@ class QDSEGA:
     def _learn_on_table(
         self,
         space: ExplorationSpace,
+        table: Transitions,
         q: np.ndarray,
         uses: np.ndarray,
         distances: np.ndarray,
         fell: np.ndarray,
-        poses: np.ndarray,
-        actions: np.ndarray,
-    ) -> tuple[int, bool, float]:
-        """Compiled learning and greedy trial on the world's transition table."""
-        learning = self.config.learning
-        table = self.world.transitions(space.postures, space.actions)  # type: ignore[union-attr]
+    ) -> int:
+        """Compiled learning on the world's transition table; returns the steps taken."""
         dx, dy, dtheta = (
             np.ascontiguousarray(a, dtype=np.float64) for a in (table.dx, table.dy, table.dtheta)
         )
-        failed = np.ascontiguousarray(table.failed, dtype=np.bool_)
-        common = (dx, dy, dtheta, failed, space.next_interior, self.light, self.edges)
-        steps = learn_on_table(
-            q,
-            *common,
-            learning.trials,
-            learning.trial_steps,
-            learning.alpha,
-            learning.gamma,
-            self._schedule(),
-            learning.reward_scale,
-            learning.penalty,
-            self.rng,
-            uses,
-            distances,
-            fell,
+        task = self.task
+        return int(
+            learn_on_table(
+                q,
+                dx,
+                dy,
+                dtheta,
+                np.ascontiguousarray(table.failed, dtype=np.bool_),
+                space.next_interior,
+                task.light,
+                task.edges,
+                self.config.learning.trials,
+                task.trial_steps,
+                self.config.learning.alpha,
+                self.config.learning.gamma,
+                self._schedule(),
+                task.config.reward_per_m,
+                task.penalty,
+                self.rng,
+                uses,
+                distances,
+                fell,
+            )
         )
-        greedy_fell = greedy_on_table(q, *common, learning.trial_steps, poses, actions)
-        lx, ly = self.light
-        greedy_distance = math.hypot(lx, ly) - math.hypot(lx - poses[-1, 0], ly - poses[-1, 1])
-        return int(steps), bool(greedy_fell), greedy_distance
 
     def _learn_in_world(
         self,
@@ -295,20 +269,17 @@ class QDSEGA:
         uses: np.ndarray,
         distances: np.ndarray,
         fell: np.ndarray,
-        poses: np.ndarray,
-        actions: np.ndarray,
-    ) -> tuple[int, bool, float]:
-        """The same learning and greedy trial, every command sent to a step-by-step world."""
+    ) -> int:
+        """The same learning, every command sent to a step-by-step world."""
         learning = self.config.learning
-        world: World = self.world  # type: ignore[assignment]
-        steps = learn_on_world(
+        return learn_on_world(
             q,
-            world,
+            self.world,  # type: ignore[arg-type]
             space.actions,
             space.next_interior,
-            n_exterior=self.n_exterior,
+            n_exterior=self.task.n_exterior,
             trials=learning.trials,
-            trial_steps=learning.trial_steps,
+            trial_steps=self.task.trial_steps,
             alpha=learning.alpha,
             gamma=learning.gamma,
             temperature_params=self._schedule(),
@@ -317,17 +288,6 @@ class QDSEGA:
             distances=distances,
             fell=fell,
         )
-        greedy_fell = greedy_on_world(
-            q,
-            world,
-            space.actions,
-            space.next_interior,
-            n_exterior=self.n_exterior,
-            trial_steps=learning.trial_steps,
-            poses=poses,
-            taken=actions,
-        )
-        return steps, greedy_fell, world.distance_covered()
 
 
 def _match(postures: np.ndarray, old: np.ndarray) -> np.ndarray:

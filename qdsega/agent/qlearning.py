@@ -8,9 +8,11 @@ and runs ``trial_steps`` commands or until the lower agent fails. Each step:
    restarting at 0 each generation (the schedule then explores afresh over a new table);
 2. if the move fails: ``Q(s, a) <- (1 - alpha) Q(s, a) + alpha * penalty`` and the trial ends
    (a fall has no next state);
-3. else move the robot by the table's body-frame displacement, reward eq. (17)
-   ``100 (d(t-1) - d(t))``, and update eq. (1) with ``max Q(s', .)``; the step that ends a
-   trial by its length bootstraps like any other (a time limit is not a terminal state).
+3. else move the robot by the table's body-frame displacement, reward eq. (17), and update
+   eq. (1) with ``max Q(s', .)``; the step that ends a trial by its length bootstraps like any
+   other (a time limit is not a terminal state).
+
+The rules (reward, exterior state, pose integration) are :mod:`qdsega.task`'s compiled kernels.
 """
 
 from __future__ import annotations
@@ -20,8 +22,8 @@ import math
 import numpy as np
 from numba import njit
 
-from qdsega.agent.boltzmann import boltzmann_select_below, greedy, temperature
-from qdsega.agent.exterior import exterior_state
+from qdsega.agent.boltzmann import boltzmann_select_below, temperature
+from qdsega.task import exterior_state, move_pose, step_reward
 
 
 @njit(cache=True)
@@ -63,7 +65,7 @@ def learn_on_table(
     alpha: float,
     gamma: float,
     temperature_params: np.ndarray,
-    reward_scale: float,
+    reward_per_m: float,
     penalty: float,
     rng: np.random.Generator,
     uses: np.ndarray,
@@ -81,7 +83,7 @@ def learn_on_table(
         trials, trial_steps: trials of this generation and commands per trial.
         alpha, gamma: eq. (1).
         temperature_params: (scale, rate, offset) of eq. (18).
-        reward_scale, penalty: eq. (17) factor and the failure reward.
+        reward_per_m, penalty: eq. (17)'s reward per metre gained and the failure reward.
         rng: the only source of randomness (one uniform per step).
         uses: per-action use counts, shape (A,), incremented (eq. 5's N_u).
         distances: per-trial distance covered toward the light (m), shape (trials,), written.
@@ -119,64 +121,15 @@ def learn_on_table(
                 _update_top(q, s, old, q[s, a], row_top)
                 fell[trial] = True
                 break
-            c, sn = math.cos(theta), math.sin(theta)
-            x += dx[interior, a] * c - dy[interior, a] * sn
-            y += dx[interior, a] * sn + dy[interior, a] * c
-            theta += dtheta[interior, a]
+            x, y, theta = move_pose(
+                x, y, theta, dx[interior, a], dy[interior, a], dtheta[interior, a]
+            )
             d_new = math.hypot(light_x - x, light_y - y)
             interior = next_interior[a]
             exterior = exterior_state(x, y, theta, light_x, light_y, edges)
             best_next = row_top[interior * n_exterior + exterior]
-            q[s, a] = q_update(old, reward_scale * (d - d_new), best_next, alpha, gamma)
+            q[s, a] = q_update(old, step_reward(d, d_new, reward_per_m), best_next, alpha, gamma)
             _update_top(q, s, old, q[s, a], row_top)
             d = d_new
         distances[trial] = d_start - d
     return steps
-
-
-@njit(cache=True)
-def greedy_on_table(
-    q: np.ndarray,
-    dx: np.ndarray,
-    dy: np.ndarray,
-    dtheta: np.ndarray,
-    failed: np.ndarray,
-    next_interior: np.ndarray,
-    light: np.ndarray,
-    edges: np.ndarray,
-    trial_steps: int,
-    poses: np.ndarray,
-    actions: np.ndarray,
-) -> bool:
-    """One trial of the greedy policy (ties: first action); no learning.
-
-    Args:
-        poses: written with the pose (x m, y m, theta rad) before each step and after the last,
-            shape (trial_steps + 1, 3); rows after a fall repeat the last pose.
-        actions: written with the action of each step, -1 after a fall, shape (trial_steps,).
-        (other arguments as :func:`learn_on_table`)
-
-    Returns:
-        Whether the trial ended in a fall.
-    """
-    n_exterior = edges.shape[0]
-    x, y, theta = 0.0, 0.0, 0.0
-    interior = 0
-    fall = False
-    poses[0, 0], poses[0, 1], poses[0, 2] = x, y, theta
-    for step in range(trial_steps):
-        actions[step] = -1
-        if not fall:
-            exterior = exterior_state(x, y, theta, light[0], light[1], edges)
-            a = greedy(q[interior * n_exterior + exterior])
-            actions[step] = a
-            if failed[interior, a]:
-                fall = True
-            else:
-                c, sn = math.cos(theta), math.sin(theta)
-                x += dx[interior, a] * c - dy[interior, a] * sn
-                y += dx[interior, a] * sn + dy[interior, a] * c
-                theta += dtheta[interior, a]
-                interior = next_interior[a]
-        poses[step + 1, 0], poses[step + 1, 1], poses[step + 1, 2] = x, y, theta
-    return fall

@@ -12,7 +12,6 @@ fails. Two kinds of world:
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 from typing import Protocol, runtime_checkable
 
@@ -104,12 +103,3 @@ class World(Protocol):
     def pose(self) -> tuple[float, float, float]:
         """The robot's planar pose now: x (m), y (m), heading (rad)."""
         ...
-
-
-def integrate_pose(
-    pose: tuple[float, float, float], dx: float, dy: float, dtheta: float
-) -> tuple[float, float, float]:
-    """Apply a body-frame move to a world pose (x m, y m, theta rad); eqs. (14)-(16) for dy=0."""
-    x, y, theta = pose
-    c, s = math.cos(theta), math.sin(theta)
-    return (x + dx * c - dy * s, y + dx * s + dy * c, theta + dtheta)

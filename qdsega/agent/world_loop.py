@@ -4,14 +4,14 @@ The same algorithm as the compiled table loop (:mod:`qdsega.agent.qlearning`), s
 Boltzmann roulette at eq. (18)'s temperature with one uniform draw per step, eq. (1) updates,
 a failed command terminal with the world's penalty. Only the world differs: here every command
 goes to the world (exact physics), so this loop serves budgets of hundreds of steps, not the
-paper's millions.
+paper's millions. The greedy trial is :func:`qdsega.agent.policy.rollout`, in any world.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from qdsega.agent.boltzmann import boltzmann_select, greedy, temperature
+from qdsega.agent.boltzmann import boltzmann_select, temperature
 from qdsega.agent.qlearning import q_update
 from qdsega.agent.world import World
 
@@ -67,41 +67,3 @@ def learn_on_world(
             q[s, a] = q_update(q[s, a], result.reward, best_next, alpha, gamma)
         distances[trial] = world.distance_covered()
     return steps
-
-
-def greedy_on_world(
-    q: np.ndarray,
-    world: World,
-    actions: np.ndarray,
-    next_interior: np.ndarray,
-    *,
-    n_exterior: int,
-    trial_steps: int,
-    poses: np.ndarray,
-    taken: np.ndarray,
-) -> bool:
-    """One trial of the greedy policy (ties: first action); no learning.
-
-    Args:
-        n_exterior: exterior states per interior state.
-        poses: written with the pose (x m, y m, theta rad) before each step and after the last,
-            shape (trial_steps + 1, 3); rows after a fall repeat the last pose.
-        taken: written with the action of each step, -1 after a fall, shape (trial_steps,).
-
-    Returns:
-        Whether the trial ended in a failure.
-    """
-    exterior = world.start_trial()
-    interior, failed = 0, False
-    poses[0] = world.pose()
-    for step in range(trial_steps):
-        taken[step] = -1
-        if not failed:
-            a = greedy(q[interior * n_exterior + exterior])
-            taken[step] = a
-            result = world.command(actions[a])
-            failed = result.failed
-            if not failed:
-                interior, exterior = int(next_interior[a]), result.exterior
-        poses[step + 1] = world.pose()
-    return failed

@@ -96,12 +96,14 @@ def run(args: argparse.Namespace) -> int:
     finally:
         if progress is not None:
             progress.close()
-    oracle = ""
+    facts = f"{summary['distance_m']:.4f} m"
+    if summary["sim"] == "memo":
+        facts += f" with exact physics (the table predicted {summary['greedy_distance']:.4f} m)"
     if summary["optimum"] is not None:
-        oracle = f", optimum {summary['optimum']:.4f} m ({summary['greedy_over_optimum']:.3f})"
+        facts += f", optimum {summary['optimum']:.4f} m ({summary['greedy_over_optimum']:.3f})"
     print(
-        f"{summary['formation']}: greedy {summary['greedy_distance']:.4f} m{oracle}, "
-        f"{summary['env_steps']} steps in {summary['wall_s']:.1f} s -> {out}"
+        f"{summary['formation']}: greedy policy {facts}, {summary['env_steps']} steps in "
+        f"{summary['wall_s']:.1f} s -> {out}"
     )
     return 0
 

@@ -17,6 +17,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from qdsega.description import Formation
+from qdsega.task import Pose
 
 
 @dataclass(frozen=True)
@@ -34,6 +35,11 @@ class BodyPose:
     y_m: float
     heading_rad: float
     max_tilt_rad: float
+
+    @property
+    def planar(self) -> Pose:
+        """(x m, y m, heading rad), the task's view of the pose."""
+        return (self.x_m, self.y_m, self.heading_rad)
 
 
 class BodyPoseEstimator:

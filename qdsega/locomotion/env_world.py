@@ -6,6 +6,7 @@ import numpy as np
 
 from qdsega.agent.world import StepResult
 from qdsega.locomotion.env import LocomotionEnv
+from qdsega.task import Pose
 
 
 class EnvWorld:
@@ -18,6 +19,8 @@ class EnvWorld:
 
     def __init__(self, *, env: LocomotionEnv) -> None:
         self.env = env
+        self.failure: str | None = None
+        """Why the lower agent failed the last command, or None."""
 
     @property
     def n_joints(self) -> int:
@@ -28,18 +31,19 @@ class EnvWorld:
 
     def start_trial(self) -> int:
         observation, _ = self.env.reset(seed=0)
+        self.failure = None
         return int(observation[-1])
 
     def command(self, posture: np.ndarray) -> StepResult:
-        observation, reward, terminated, _, _ = self.env.step(posture)
+        observation, reward, terminated, _, info = self.env.step(posture)
+        self.failure = info["failure"]
         return StepResult(reward=reward, exterior=int(observation[-1]), failed=terminated)
 
     def distance_covered(self) -> float:
         return self.env.distance_covered()
 
-    def pose(self) -> tuple[float, float, float]:
-        pose = self.env.body_pose()
-        return (pose.x_m, pose.y_m, pose.heading_rad)
+    def pose(self) -> Pose:
+        return self.env.pose()
 
     def close(self) -> None:
         self.env.close()

@@ -27,42 +27,84 @@ if TYPE_CHECKING:  # the configuration is usable without starting the physics en
     from qdsega.simulation.bullet import BulletSimulation
 
 
+STEP_GRID_S = 0.05
+"""A derived step duration is rounded up to a multiple of this (s)."""
+
+
 @dataclass(frozen=True, kw_only=True)
 class LowerAgentConfig:
     """How postures are executed and when execution fails.
 
     Attributes:
-        step_duration_s: duration of one upper-agent step (s); the joints must arrive within it.
-        joint_speed_rad_s: the constant angular speed of every joint (rad/s).
+        step_duration_s: duration of one upper-agent step (s); every joint must arrive within
+            it. None (the default) derives it from the formation
+            (:meth:`step_duration_for`), so any formation runs without a setting.
+        joint_speed_rad_s: the constant angular speed of every joint (rad/s), capped by each
+            unit's own speed limit.
+        arrival_margin_s: time a derived step leaves after the slowest joint's sweep, for
+            the position controller to settle within ``tolerance_rad`` (s). 0.03: snake5 and
+            the legged bodies need 0.465 s to sweep 40 deg at 1.5 rad/s and arrive within
+            0.5 s steps.
         tolerance_rad: a joint has reached its level when this close at the step's end (rad).
         max_tilt_rad: a trunk unit tilted more than this from upright means the body flipped.
         check_interval_steps: physics steps between failure checks during a step (-); 12 is
             20 Hz at PyBullet's 240 Hz, and keeps the checks under 5% of a snake5 step.
     """
 
-    step_duration_s: float = 0.5
+    step_duration_s: float | None = None
     joint_speed_rad_s: float = 1.5
+    arrival_margin_s: float = 0.03
     tolerance_rad: float = math.radians(4.0)
     max_tilt_rad: float = math.radians(60.0)
     check_interval_steps: int = 12
 
     def __post_init__(self) -> None:
-        for name in ("step_duration_s", "joint_speed_rad_s", "tolerance_rad", "max_tilt_rad"):
-            if not getattr(self, name) > 0:
-                raise ValueError(f"{name} must be positive, got {getattr(self, name)}")
+        for name in ("joint_speed_rad_s", "tolerance_rad", "max_tilt_rad"):
+            value = getattr(self, name)
+            if not (value > 0 and math.isfinite(value)):
+                raise ValueError(f"{name} must be positive, got {value}")
+        if self.step_duration_s is not None and not (
+            self.step_duration_s > 0 and math.isfinite(self.step_duration_s)
+        ):
+            raise ValueError(f"step_duration_s must be positive, got {self.step_duration_s}")
+        if not (self.arrival_margin_s >= 0 and math.isfinite(self.arrival_margin_s)):
+            raise ValueError(f"arrival_margin_s must not be negative, got {self.arrival_margin_s}")
         if self.check_interval_steps < 1:
             raise ValueError("check_interval_steps must be at least 1")
 
-    def check_formation(self, formation: Formation) -> None:
-        """Raise ValueError if a joint cannot cross its widest level span within one step."""
-        for joint in formation.joints:
-            span = max(joint.levels_rad) - min(joint.levels_rad)
-            needed_s = span / self.joint_speed_rad_s
-            if needed_s > self.step_duration_s:
-                raise ValueError(
-                    f"{formation.name}: joint {joint.name} needs {needed_s:.2f} s to cross its "
-                    f"levels, more than step_duration_s={self.step_duration_s}"
-                )
+    def sweep_s(self, formation: Formation) -> tuple[float, str]:
+        """The longest time a joint needs to cross its widest level span (s), and that joint:
+        span over ``joint_speed_rad_s`` capped by the unit's speed limit."""
+        times = [
+            (
+                (max(joint.levels_rad) - min(joint.levels_rad))
+                / min(self.joint_speed_rad_s, joint.spec.velocity_rad_s),
+                joint.name,
+            )
+            for joint in formation.joints
+        ]
+        return max(times, default=(0.0, ""))
+
+    def step_duration_for(self, formation: Formation) -> float:
+        """The step duration (s) for ``formation``: ``step_duration_s`` when set, else the
+        slowest sweep plus ``arrival_margin_s``, rounded up to a multiple of 0.05 s.
+
+        Raises:
+            ValueError: a set ``step_duration_s`` is shorter than the slowest sweep; the
+                message says which setting to change and to what.
+        """
+        sweep, joint = self.sweep_s(formation)
+        derived = STEP_GRID_S * math.ceil((sweep + self.arrival_margin_s) / STEP_GRID_S - 1e-9)
+        if self.step_duration_s is None:
+            return max(derived, STEP_GRID_S)
+        if sweep > self.step_duration_s:
+            raise ValueError(
+                f"{formation.name}: joint {joint} needs {sweep:.2f} s to cross its levels at "
+                f"{self.joint_speed_rad_s} rad/s, more than lower_agent.step_duration_s="
+                f"{self.step_duration_s}; set lower_agent.step_duration_s to at least "
+                f"{derived:.2f} (or leave it unset to derive it from the formation)"
+            )
+        return self.step_duration_s
 
 
 @dataclass(frozen=True)
@@ -94,9 +136,10 @@ class LowerAgent:
         self.sim = sim
         self.formation = sim.formation
         self.config = config
-        config.check_formation(self.formation)
+        self.step_duration_s = config.step_duration_for(self.formation)
+        """Duration of one upper-agent step (s)."""
         self.estimator = BodyPoseEstimator(formation=self.formation)
-        self.physics_steps = max(1, round(config.step_duration_s / sim.settings.time_step_s))
+        self.physics_steps = max(1, round(self.step_duration_s / sim.settings.time_step_s))
         # Only a legged body's trunk must stay off the ground; a snake's trunk is all of it.
         legged = bool(self.formation.legs)
         self._trunk_names = {u.name for u in self.formation.trunk_units} if legged else set()

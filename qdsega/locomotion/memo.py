@@ -17,7 +17,6 @@ made them or in which order.
 
 from __future__ import annotations
 
-import math
 import multiprocessing
 import signal
 from concurrent.futures import ProcessPoolExecutor
@@ -32,6 +31,7 @@ from qdsega.description import Formation
 from qdsega.locomotion.lower_agent import LowerAgent, LowerAgentConfig
 from qdsega.simulation import PhysicsSettings
 from qdsega.simulation.bullet import BulletSimulation
+from qdsega.task import relative_move
 
 SETTLE_S = 0.5
 """Rest time in the start posture of a transition before the command (s)."""
@@ -61,7 +61,7 @@ class MeasuredTransitions:
     ) -> None:
         if workers < 1:
             raise ValueError(f"workers must be at least 1, got {workers}")
-        lower_agent.check_formation(formation)
+        lower_agent.step_duration_for(formation)  # refuses a step too short for a joint
         self.formation = formation
         self.lower_agent = lower_agent
         self.physics = physics or PhysicsSettings()
@@ -203,7 +203,7 @@ def _measure_from(source: np.ndarray, targets: np.ndarray) -> np.ndarray:
         sim.reset(bench.formation.posture_rad(source))
     sim.step(bench.settle_steps)
     settled = sim.save_state()
-    start = agent.pose()
+    start = agent.pose().planar
     rows = np.zeros((len(targets), _FIELDS))
     for k, target in enumerate(targets):
         sim.restore_state(settled)
@@ -211,13 +211,6 @@ def _measure_from(source: np.ndarray, targets: np.ndarray) -> np.ndarray:
         if outcome.failed:
             rows[k] = (0.0, 0.0, 0.0, 1.0)
             continue
-        end = outcome.pose
-        c, s = math.cos(start.heading_rad), math.sin(start.heading_rad)
-        ex, ey = end.x_m - start.x_m, end.y_m - start.y_m
-        turn = math.atan2(
-            math.sin(end.heading_rad - start.heading_rad),
-            math.cos(end.heading_rad - start.heading_rad),
-        )
-        rows[k] = (c * ex + s * ey, -s * ex + c * ey, turn, 0.0)
+        rows[k] = (*relative_move(start, outcome.pose.planar), 0.0)
     sim.remove_state(settled)
     return rows

@@ -28,8 +28,8 @@ from functools import cache
 
 import numpy as np
 
-from qdsega.agent.world import integrate_pose
 from qdsega.msm.model import MinimalSimulationModel, side_force
+from qdsega.task import move_pose
 
 Counts = tuple[int, int, int, int]
 
@@ -148,7 +148,7 @@ def msm_optimum(
     moves = model.transitions(sequence[:-1], sequence[1:])
     pose = (0.0, 0.0, 0.0)
     for t in range(steps):
-        pose = integrate_pose(pose, moves.dx[t, t], moves.dy[t, t], moves.dtheta[t, t])
+        pose = move_pose(*pose, moves.dx[t, t], moves.dy[t, t], moves.dtheta[t, t])
     lx, ly = light_xy
     distance = math.hypot(lx, ly) - math.hypot(lx - pose[0], ly - pose[1])
     ahead = abs(ly) < 1e-12 and lx > 0

@@ -15,8 +15,8 @@ import numpy as np
 
 from qdsega.assembly import assemble
 from qdsega.description import Formation
-from qdsega.locomotion.env import SETTLE_S, TaskConfig
-from qdsega.locomotion.lower_agent import LowerAgent
+from qdsega.locomotion.env import SETTLE_S
+from qdsega.locomotion.lower_agent import LowerAgent, LowerAgentConfig
 from qdsega.rendering.camera import CameraConfig
 from qdsega.simulation import PhysicsSettings
 from qdsega.simulation.bullet import BulletSimulation
@@ -47,14 +47,14 @@ def record(
     formation: Formation,
     postures: np.ndarray,
     *,
-    task: TaskConfig,
+    lower_agent: LowerAgentConfig,
     camera: CameraConfig,
     physics: PhysicsSettings | None = None,
     start_levels: tuple[int, ...] | None = None,
 ) -> Film:
     """Execute ``postures`` (steps, J) from the start posture and film every 1/fps s."""
     with BulletSimulation(robot=assemble(formation), settings=physics, egl=True) as sim:
-        agent = LowerAgent(sim=sim, config=task.lower_agent)
+        agent = LowerAgent(sim=sim, config=lower_agent)
         start = start_levels or formation.rest_levels()
         sim.reset(formation.posture_rad(start))
         sim.step(max(1, round(SETTLE_S / sim.settings.time_step_s)))

@@ -34,10 +34,12 @@ class Checkpoint:
         learner: the learner's state.
         metrics: one row per finished generation, columns of
             :data:`qdsega.training.run.METRIC_COLUMNS`, shape (G, columns).
-        poses: each finished generation's greedy trial (x m, y m, theta rad),
-            shape (G, steps + 1, 3).
-        greedy_actions: the last generation's greedy actions, -1 after a fall, shape (steps,).
-        greedy_fell: whether that trial fell.
+        poses: each finished generation's greedy trial in the learner's world (x m, y m,
+            theta rad), shape (G, steps + 1, 3).
+        exact_poses: the same policies replayed with exact physics, shape (G, steps + 1, 3).
+        gait: the postures the last exact replay went through, start posture first,
+            shape (k + 1, J).
+        world: what the run put into its world (grounded observations), as arrays.
         env_steps: learning steps (commands) so far.
         elapsed_s: wall time spent so far (s), over all sessions of the run.
     """
@@ -46,8 +48,9 @@ class Checkpoint:
     learner: LearnerState
     metrics: np.ndarray
     poses: np.ndarray
-    greedy_actions: np.ndarray
-    greedy_fell: bool
+    exact_poses: np.ndarray
+    gait: np.ndarray
+    world: dict[str, np.ndarray]
     env_steps: int
     elapsed_s: float
 
@@ -59,7 +62,9 @@ def save_checkpoint(run: Path, checkpoint: Checkpoint) -> None:
         "population": state.population,
         "metrics": checkpoint.metrics,
         "poses": checkpoint.poses,
-        "greedy_actions": checkpoint.greedy_actions,
+        "exact_poses": checkpoint.exact_poses,
+        "gait": checkpoint.gait,
+        **{f"world_{name}": array for name, array in checkpoint.world.items()},
     }
     if state.previous is not None:
         space, q = state.previous
@@ -74,7 +79,6 @@ def save_checkpoint(run: Path, checkpoint: Checkpoint) -> None:
         "formation_file": checkpoint.formation_file,
         "completed": state.completed,
         "rng_state": state.rng_state,
-        "greedy_fell": checkpoint.greedy_fell,
         "env_steps": checkpoint.env_steps,
         "elapsed_s": checkpoint.elapsed_s,
     }
@@ -113,8 +117,13 @@ def load_checkpoint(run: Path) -> Checkpoint:
                 ),
                 metrics=data["metrics"],
                 poses=data["poses"],
-                greedy_actions=data["greedy_actions"],
-                greedy_fell=bool(meta["greedy_fell"]),
+                exact_poses=data["exact_poses"],
+                gait=data["gait"],
+                world={
+                    name.removeprefix("world_"): data[name]
+                    for name in data.files
+                    if name.startswith("world_")
+                },
                 env_steps=int(meta["env_steps"]),
                 elapsed_s=float(meta["elapsed_s"]),
             )

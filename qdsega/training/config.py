@@ -6,6 +6,7 @@ A YAML override file mirrors :class:`TrainingConfig`, for example::
     agent:
       learning: {trials: 2000}
       fitness: {k_f: 10.0}
+    task: {trial_steps: 20}
     msm: {c_theta: 0.1}
 
 Unknown keys and values of the wrong type are errors (:class:`qdsega.errors.FormationError`).
@@ -27,6 +28,7 @@ from qdsega.errors import FormationError
 from qdsega.locomotion.lower_agent import LowerAgentConfig
 from qdsega.msm import MSMParameters
 from qdsega.simulation import PhysicsSettings
+from qdsega.task import TaskConfig
 
 SIMULATORS = ("msm", "memo", "pybullet")
 """Worlds ``qdsega train`` can learn in (:mod:`qdsega.training.worlds`)."""
@@ -44,10 +46,14 @@ class TrainingConfig:
         light_bearing_deg: put the light at this bearing (deg, counter-clockwise from the
             initial heading), at the formation's distance; None keeps the formation's light.
         agent: the learner's hyperparameters.
+        task: the task's rules: trial length, reward (eq. 17) and its distance unit, penalty,
+            exterior states.
         msm: the Minimal Simulation Model's constants.
         lower_agent: how PyBullet worlds execute postures and when that fails.
         physics: PyBullet engine settings.
         workers: processes measuring memo transitions in parallel.
+        ground_table: memo mode: correct the table with the moves that each generation's
+            exact replay of its greedy policy went through (:mod:`qdsega.agent.grounding`).
     """
 
     preset: str = "paper-legged"
@@ -55,10 +61,12 @@ class TrainingConfig:
     sim: str = "msm"
     light_bearing_deg: float | None = None
     agent: QDSEGAConfig = field(default_factory=QDSEGAConfig)
+    task: TaskConfig = field(default_factory=TaskConfig)
     msm: MSMParameters = field(default_factory=MSMParameters)
     lower_agent: LowerAgentConfig = field(default_factory=LowerAgentConfig)
     physics: PhysicsSettings = field(default_factory=PhysicsSettings)
     workers: int = 2
+    ground_table: bool = True
 
     def __post_init__(self) -> None:
         if self.workers < 1:
@@ -82,7 +90,7 @@ def resolve_config(
     """
     if preset not in PRESETS:
         raise FormationError(f"unknown preset {preset!r} (known: {', '.join(PRESETS)})")
-    config = TrainingConfig(preset=preset, agent=PRESETS[preset])
+    config = TrainingConfig(preset=preset, agent=PRESETS[preset].agent, task=PRESETS[preset].task)
     if file is not None:
         try:
             data = yaml.safe_load(Path(file).read_text(encoding="utf-8"))

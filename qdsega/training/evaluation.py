@@ -22,25 +22,27 @@ from __future__ import annotations
 
 import json
 import math
-import zipfile
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
+from qdsega.agent.policy import GreedyPolicy, rollout
 from qdsega.atomic import replaced_atomically
 from qdsega.description import Formation
 from qdsega.errors import FormationError
 from qdsega.locomotion import reference_gaits
 from qdsega.locomotion.env import LocomotionEnv
+from qdsega.locomotion.env_world import EnvWorld
 from qdsega.training.config import TrainingConfig, read_run_config
 from qdsega.training.run import prepare_formation
 from qdsega.training.run_folder import (
     EVALUATION_FILE,
+    POLICY_FILE,
     read_summary,
     require_finished,
 )
-from qdsega.training.worlds import task_of
+from qdsega.training.worlds import exact_env
 
 
 def evaluate_run(run: Path | str) -> dict[str, Any]:
@@ -52,10 +54,10 @@ def evaluate_run(run: Path | str) -> dict[str, Any]:
     run = Path(run)
     summary, config, policy = load_run(run)
     formation = prepare_formation(summary["formation_file"], config)
-    env = LocomotionEnv(formation=formation, task=task_of(config), physics=config.physics)
+    env = exact_env(formation, config)
     try:
         learned = replay_policy(env, policy)
-        reference = best_reference(env, formation, config.agent.learning.trial_steps)
+        reference = best_reference(env, formation, config.task.trial_steps)
     finally:
         env.close()
     result: dict[str, Any] = {
@@ -78,28 +80,18 @@ def evaluate_run(run: Path | str) -> dict[str, Any]:
     return result
 
 
-def replay_policy(env: LocomotionEnv, policy: dict[str, np.ndarray]) -> dict[str, Any]:
-    """One trial of the greedy policy (ties: first action) in ``env``."""
-    q, actions, next_interior = policy["q"], policy["actions"], policy["next_interior"]
-    n_exterior = q.shape[0] // len(policy["postures"])
-    observation, info = env.reset(seed=0)
-    interior, postures, failure = 0, [], None
-    units = [_unit_xy(env)]
-    for _ in range(env.task.trial_steps):
-        action = int(np.argmax(q[interior * n_exterior + int(observation[-1])]))
-        observation, _, terminated, truncated, info = env.step(actions[action])
-        postures.append([int(level) for level in actions[action]])
-        units.append(_unit_xy(env))
-        if terminated:
-            failure = info["failure"]
-            break
-        interior = int(next_interior[action])
-        if truncated:
-            break
+def replay_policy(env: LocomotionEnv, policy: GreedyPolicy) -> dict[str, Any]:
+    """One trial of the greedy policy in ``env``: its distance (m), failure, commanded
+    postures and every unit's centre of mass at the start and after each step."""
+    world = EnvWorld(env=env)
+    units: list[list[list[float]]] = []
+    trial = rollout(
+        policy, world, steps=env.task.trial_steps, record=lambda: units.append(_unit_xy(env))
+    )
     return {
-        "distance_m": info["distance_covered_m"],
-        "failure": failure,
-        "postures": postures,
+        "distance_m": trial.distance_m,
+        "failure": world.failure,
+        "postures": trial.postures.tolist(),
         "unit_xy_m": units,
     }
 
@@ -183,19 +175,17 @@ def _period(postures: np.ndarray) -> int:
     return best
 
 
-def load_run(run: Path) -> tuple[dict[str, Any], TrainingConfig, dict[str, np.ndarray]]:
+def load_run(run: Path) -> tuple[dict[str, Any], TrainingConfig, GreedyPolicy]:
     """A finished run folder's summary, configuration and greedy policy.
 
     Raises:
         FormationError: missing folder or files, or files that do not parse.
     """
-    require_finished(run, "config.yaml", "policy.npz")
+    require_finished(run, "config.yaml", POLICY_FILE)
     config = read_run_config(run)
     summary = read_summary(run)
     try:
-        with np.load(run / "policy.npz") as stored:
-            policy = {key: stored[key] for key in ("q", "actions", "postures", "next_interior")}
-    except (OSError, ValueError, KeyError, zipfile.BadZipFile) as exc:
-        message = f"corrupt run folder ({exc.__class__.__name__}: {exc})"
-        raise FormationError(message, file=run) from None
+        policy = GreedyPolicy.load(run / POLICY_FILE)
+    except ValueError as exc:
+        raise FormationError(f"corrupt run folder ({exc})", file=run) from None
     return summary, config, policy

@@ -14,8 +14,9 @@ from qdsega.training.run import GenerationReport
 class ProgressDisplay:
     """A :class:`qdsega.training.run.Progress` that writes to ``stream``.
 
-    On a terminal it draws a bar (generation, greedy distance, Q-table size, steps/s, ETA);
-    otherwise (a log file, a pipe, CI) it prints one line per generation with the same facts.
+    On a terminal it draws a bar (generation, the greedy policy's distance with exact physics
+    and as the learner's world predicted it, Q-table size, steps/s, ETA); otherwise (a log
+    file, a pipe, CI) it prints one line per generation with the same facts.
     """
 
     def __init__(self, stream: TextIO = sys.stderr) -> None:
@@ -38,7 +39,8 @@ class ProgressDisplay:
 
     def generation(self, report: GenerationReport) -> None:
         facts = (
-            f"greedy {report.greedy_distance_m:.3f} m, Q-table {report.actions} actions "
+            f"exact {report.greedy_exact_m:.3f} m (predicted {report.greedy_distance_m:.3f} m), "
+            f"Q-table {report.actions} actions "
             f"({report.q_entries} entries), {report.steps_per_s:,.0f} steps/s"
         )
         if self._bar is not None:

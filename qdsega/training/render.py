@@ -8,7 +8,7 @@ import numpy as np
 
 from qdsega.description import Formation
 from qdsega.errors import FormationError
-from qdsega.locomotion.env import LocomotionEnv, TaskConfig
+from qdsega.locomotion.lower_agent import LowerAgentConfig
 from qdsega.rendering.camera import CameraConfig
 from qdsega.rendering.recorder import Film, record
 from qdsega.rendering.video import VIDEO_SUFFIXES, write_video
@@ -16,7 +16,7 @@ from qdsega.simulation import PhysicsSettings
 from qdsega.training.evaluation import load_run, replay_policy
 from qdsega.training.run import prepare_formation
 from qdsega.training.run_folder import read_evaluation
-from qdsega.training.worlds import task_of
+from qdsega.training.worlds import exact_env
 
 
 def render_run(run: Path, out: Path, camera: CameraConfig) -> Film:
@@ -25,17 +25,18 @@ def render_run(run: Path, out: Path, camera: CameraConfig) -> Film:
     _check_suffix(out)
     summary, config, policy = load_run(run)
     formation = prepare_formation(summary["formation_file"], config)
-    task = task_of(config)
     evaluation = read_evaluation(run)
     if evaluation is not None:
         postures = np.array(evaluation["postures"])
     else:
-        env = LocomotionEnv(formation=formation, task=task, physics=config.physics)
+        env = exact_env(formation, config)
         try:
             postures = np.array(replay_policy(env, policy)["postures"])
         finally:
             env.close()
-    return render_postures(formation, postures, out, camera, task=task, physics=config.physics)
+    return render_postures(
+        formation, postures, out, camera, lower_agent=config.lower_agent, physics=config.physics
+    )
 
 
 def render_postures(
@@ -44,7 +45,7 @@ def render_postures(
     out: Path,
     camera: CameraConfig,
     *,
-    task: TaskConfig | None = None,
+    lower_agent: LowerAgentConfig | None = None,
     physics: PhysicsSettings | None = None,
 ) -> Film:
     """Film ``postures`` (steps, J) of level indices and write the video to ``out``."""
@@ -53,7 +54,13 @@ def render_postures(
     counts = np.array([len(j.levels_rad) for j in formation.joints])
     if np.any(postures < 0) or np.any(postures >= counts):
         raise FormationError(f"postures hold levels outside 0..(levels - 1) of {formation.name}")
-    film = record(formation, postures, task=task or TaskConfig(), camera=camera, physics=physics)
+    film = record(
+        formation,
+        postures,
+        lower_agent=lower_agent or LowerAgentConfig(),
+        camera=camera,
+        physics=physics,
+    )
     write_video(film.frames, out, fps=film.fps)
     return film
 

@@ -7,7 +7,9 @@ The run folder holds:
   (:mod:`qdsega.training.checkpoint`); ``qdsega train --resume RUN`` continues from it;
 * ``metrics.csv``: one row per finished generation (see :data:`METRIC_COLUMNS`);
 * ``summary.json`` (written last: its presence means the run is finished): the outcome
-  (greedy distance, exact optimum, budget, wall time, seed);
+  (``distance_m``: the final greedy policy's distance with exact physics, the run's result;
+  ``greedy_distance``: what the learner's world predicted for it; exact optimum, budget, wall
+  time, seed);
   ``optimum`` is the straight-walk optimum of :func:`qdsega.msm.msm_optimum`, exact
   (``optimum_exact``) for a light straight ahead, an upper reference otherwise; null in
   PyBullet worlds (``qdsega evaluate`` measures a reference gait there);
@@ -15,8 +17,9 @@ The run folder holds:
   ``postures`` (interior states, J), ``next_interior`` (A,);
 * ``transitions.npz`` (memo mode): every measured transition, reused when the run resumes;
 * ``trajectories.npz``: what the figures need: ``poses`` (G, steps + 1, 3), the greedy trial
-  of every generation (x m, y m, theta rad); ``gait_postures`` (k + 1, J) and ``gait_legs``
-  (k + 1, n_legs), the last generation's greedy trial as postures and as leg states 1..4;
+  of every generation in the learner's world (x m, y m, theta rad), and ``exact_poses``, the
+  same policies with exact physics; ``gait_postures`` (k + 1, J) and ``gait_legs``
+  (k + 1, n_legs), the final policy's exact trial as postures and as leg states 1..4;
   ``gait_angles_deg`` (k + 1, J) and ``joint_names`` (J,), the same trial as joint angles;
   ``optimum_postures`` (steps + 1, J), the optimum's witness; ``light`` (2,) (m).
 """
@@ -34,20 +37,15 @@ from typing import Any, Protocol
 import numpy as np
 import yaml
 
-from qdsega.agent.learner import QDSEGA, Generation, greedy_postures
+from qdsega.agent.learner import QDSEGA, Generation
+from qdsega.agent.policy import GreedyPolicy, Rollout
 from qdsega.atomic import replaced_atomically
 from qdsega.description import Formation, Light, load_formation
 from qdsega.errors import FormationError
 from qdsega.training.checkpoint import Checkpoint, load_checkpoint, save_checkpoint
 from qdsega.training.config import TrainingConfig, read_run_config
-from qdsega.training.run_folder import SUMMARY_FILE
-from qdsega.training.worlds import (
-    TrainingWorld,
-    build_world,
-    check_world,
-    leg_states,
-    light_of,
-)
+from qdsega.training.run_folder import POLICY_FILE, SUMMARY_FILE
+from qdsega.training.worlds import TrainingWorld, build_world, check_world, leg_states
 
 METRIC_COLUMNS = (
     "generation",
@@ -57,15 +55,24 @@ METRIC_COLUMNS = (
     "best_distance_m",
     "mean_distance_m",
     "greedy_distance_m",
+    "greedy_exact_m",
     "penalties",
     "steps",
     "wall_s",
 )
 """metrics.csv: Q-table actions (columns), interior states and entries (states x actions),
-best and mean trial distance toward the light (m), the greedy policy's distance (m), trials
-that ended in a fall, learning steps (commands), wall seconds of the generation."""
+best and mean trial distance toward the light in the learner's world (m), the greedy policy's
+distance there (m: the table's prediction in memo mode) and with exact physics (m), trials that
+ended in a fall, learning steps (commands), wall seconds of the generation (the exact replay
+included)."""
 
-_FLOAT_COLUMNS = {"best_distance_m", "mean_distance_m", "greedy_distance_m", "wall_s"}
+_FLOAT_COLUMNS = {
+    "best_distance_m",
+    "mean_distance_m",
+    "greedy_distance_m",
+    "greedy_exact_m",
+    "wall_s",
+}
 
 
 @dataclass(frozen=True)
@@ -75,7 +82,9 @@ class GenerationReport:
     Attributes:
         generation: generations finished (from 1).
         generations: generations in the run.
-        greedy_distance_m: the greedy policy's distance toward the light (m).
+        greedy_distance_m: the greedy policy's distance toward the light in the learner's
+            world (m).
+        greedy_exact_m: the same with exact physics (m).
         actions: Q-table actions.
         q_entries: Q-table entries (states x actions).
         steps_per_s: learning steps (commands) per wall second in this generation.
@@ -87,6 +96,7 @@ class GenerationReport:
     generation: int
     generations: int
     greedy_distance_m: float
+    greedy_exact_m: float
     actions: int
     q_entries: int
     steps_per_s: float
@@ -183,7 +193,7 @@ def _run(
             config=config.agent,
             levels=np.array([len(j.levels_rad) for j in formation.joints]),
             world=world.provider,
-            light_xy=light_of(formation),
+            task=world.task,
             rng=np.random.default_rng(config.seed),
         )
         if checkpoint is None:
@@ -192,6 +202,7 @@ def _run(
         else:
             try:
                 learner.restore(checkpoint.learner)
+                world.restore(checkpoint.world)
             except ValueError as exc:
                 message = f"checkpoint.npz does not fit config.yaml ({exc})"
                 raise FormationError(message, file=out) from None
@@ -200,14 +211,15 @@ def _run(
             progress.start(completed=resumed_at, generations=config.agent.genetic.generations)
         try:
             for generation in learner.run():
+                exact = world.replay(generation)
                 elapsed = first_elapsed + time.perf_counter() - session_start
-                checkpoint = _advance(checkpoint, generation, learner, elapsed)
+                checkpoint = _advance(checkpoint, generation, exact, learner, world, elapsed)
                 world.save(out)
                 save_checkpoint(out, checkpoint)
                 _write_metrics(out, checkpoint.metrics)
                 if progress is not None:
                     progress.generation(
-                        _report(checkpoint, generation, config, session_start, resumed_at)
+                        _report(checkpoint, generation, exact, config, session_start, resumed_at)
                     )
             return _finish(out, formation, config, world, checkpoint)
         except KeyboardInterrupt:
@@ -218,23 +230,30 @@ def _run(
 
 
 def _first_checkpoint(formation: Formation, config: TrainingConfig, learner: QDSEGA) -> Checkpoint:
-    steps = config.agent.learning.trial_steps
+    steps = config.task.trial_steps
     return Checkpoint(
         formation_file=str(Path(formation.file).resolve()),
         learner=learner.state(),
         metrics=np.zeros((0, len(METRIC_COLUMNS))),
         poses=np.zeros((0, steps + 1, 3)),
-        greedy_actions=np.full(steps, -1, dtype=np.int64),
-        greedy_fell=False,
+        exact_poses=np.zeros((0, steps + 1, 3)),
+        gait=np.zeros((0, len(formation.joints)), dtype=np.int64),
+        world={},
         env_steps=0,
         elapsed_s=0.0,
     )
 
 
 def _advance(
-    checkpoint: Checkpoint, generation: Generation, learner: QDSEGA, elapsed_s: float
+    checkpoint: Checkpoint,
+    generation: Generation,
+    exact: Rollout,
+    learner: QDSEGA,
+    world: TrainingWorld,
+    elapsed_s: float,
 ) -> Checkpoint:
-    """The checkpoint after ``generation`` (the learner has already reproduced)."""
+    """The checkpoint after ``generation`` and its exact replay (the learner has already
+    reproduced)."""
     space = generation.space
     row = [
         generation.index,
@@ -243,7 +262,8 @@ def _advance(
         generation.q.size,
         generation.distances.max(),
         generation.distances.mean(),
-        generation.greedy_distance,
+        generation.greedy.distance_m,
+        exact.distance_m,
         int(generation.fell.sum()),
         generation.steps,
         generation.wall_s,
@@ -252,9 +272,10 @@ def _advance(
         formation_file=checkpoint.formation_file,
         learner=learner.state(),
         metrics=np.vstack([checkpoint.metrics, np.array(row, dtype=np.float64)]),
-        poses=np.concatenate([checkpoint.poses, generation.greedy_poses[None]]),
-        greedy_actions=generation.greedy_actions.copy(),
-        greedy_fell=generation.greedy_fell,
+        poses=np.concatenate([checkpoint.poses, generation.greedy.poses[None]]),
+        exact_poses=np.concatenate([checkpoint.exact_poses, exact.poses[None]]),
+        gait=exact.reached_postures(space.postures[0]),
+        world=world.state(),
         env_steps=checkpoint.env_steps + generation.steps,
         elapsed_s=elapsed_s,
     )
@@ -263,6 +284,7 @@ def _advance(
 def _report(
     checkpoint: Checkpoint,
     generation: Generation,
+    exact: Rollout,
     config: TrainingConfig,
     session_start: float,
     resumed_at: int,
@@ -271,7 +293,8 @@ def _report(
     return GenerationReport(
         generation=generation.index,
         generations=config.agent.genetic.generations,
-        greedy_distance_m=generation.greedy_distance,
+        greedy_distance_m=generation.greedy.distance_m,
+        greedy_exact_m=exact.distance_m,
         actions=generation.space.n_actions,
         q_entries=generation.q.size,
         steps_per_s=generation.steps / max(generation.wall_s, 1e-9),
@@ -306,12 +329,13 @@ def _finish(
     """Write trajectories.npz, policy.npz and, last, summary.json from the final checkpoint."""
     assert checkpoint.learner.previous is not None, "a finished run has learnt a generation"
     space, q = checkpoint.learner.previous
-    light = light_of(formation)
+    light = tuple(float(v) for v in world.task.light)
     optimum = world.optimum
-    gait = greedy_postures(space, checkpoint.greedy_actions, checkpoint.greedy_fell)
+    gait = checkpoint.gait
     np.savez_compressed(
         out / "trajectories.npz",
         poses=checkpoint.poses,
+        exact_poses=checkpoint.exact_poses,
         gait_postures=gait,
         gait_angles_deg=np.degrees([formation.posture_rad(p) for p in gait]),
         joint_names=np.array([j.name for j in formation.joints], dtype=str),
@@ -322,14 +346,10 @@ def _finish(
         else optimum.postures,
         light=np.array(light),
     )
-    np.savez_compressed(
-        out / "policy.npz",
-        q=q,
-        actions=space.actions,
-        postures=space.postures,
-        next_interior=space.next_interior,
-    )
-    greedy_distance = float(checkpoint.metrics[-1, METRIC_COLUMNS.index("greedy_distance_m")])
+    GreedyPolicy.of(space, q).save(out / POLICY_FILE)
+    last = checkpoint.metrics[-1]
+    greedy_distance = float(last[METRIC_COLUMNS.index("greedy_distance_m")])
+    distance = float(last[METRIC_COLUMNS.index("greedy_exact_m")])
     summary = {
         "formation": formation.name,
         "formation_file": checkpoint.formation_file,
@@ -338,20 +358,26 @@ def _finish(
         "seed": config.seed,
         "generations": checkpoint.learner.completed,
         "trials_per_generation": config.agent.learning.trials,
-        "trial_steps": config.agent.learning.trial_steps,
+        "trial_steps": config.task.trial_steps,
         "env_steps": checkpoint.env_steps,
+        "distance_m": distance,
         "greedy_distance": greedy_distance,
-        "greedy_fell": checkpoint.greedy_fell,
+        "prediction_error": _relative_error(greedy_distance, distance),
         "optimum": None if optimum is None else optimum.bound_m,
         "optimum_exact": None if optimum is None else optimum.exact,
-        "greedy_over_optimum": None if optimum is None else greedy_distance / optimum.bound_m,
-        "final_heading_deg": math.degrees(checkpoint.poses[-1, -1, 2]),
+        "greedy_over_optimum": None if optimum is None else distance / optimum.bound_m,
+        "final_heading_deg": math.degrees(checkpoint.exact_poses[-1, -1, 2]),
         "light_xy": list(light),
         "wall_s": checkpoint.elapsed_s,
     }
     with replaced_atomically(out / SUMMARY_FILE) as partial:
         partial.write_text(json.dumps(summary, indent=2) + "\n", encoding="utf-8")
     return summary
+
+
+def _relative_error(predicted: float, exact: float) -> float | None:
+    """``(predicted - exact) / |exact|``, or None when the exact distance is 0."""
+    return None if exact == 0 else (predicted - exact) / abs(exact)
 
 
 def budget_overrides(

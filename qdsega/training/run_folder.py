@@ -12,6 +12,8 @@ SUMMARY_FILE = "summary.json"
 """Written last by ``qdsega train``: its presence means the run is finished."""
 EVALUATION_FILE = "evaluation.json"
 """Written by ``qdsega evaluate``."""
+POLICY_FILE = "policy.npz"
+"""The final greedy policy (:class:`qdsega.agent.policy.GreedyPolicy`), written by train."""
 
 
 def require_finished(run: Path, *names: str) -> None:

@@ -1,10 +1,12 @@
-"""The world a training run learns in, built from the run's configuration.
+"""The world a training run learns in, built from the run's configuration, and its exact twin.
 
 * ``msm``: the Minimal Simulation Model (section 4.1.2) of a legged formation, with its exact
-  optimum as the oracle.
+  optimum as the oracle; the model is its own exact physics.
 * ``memo``: PyBullet posture-to-posture transitions, each measured once and kept in the run
   folder (``transitions.npz``), filled on demand by worker processes
-  (:mod:`qdsega.locomotion.memo`);
+  (:mod:`qdsega.locomotion.memo`). Every generation's greedy policy is replayed with exact
+  physics; with ``ground_table`` the table is corrected by the moves seen there
+  (:mod:`qdsega.agent.grounding`).
 * ``pybullet``: exact physics, every upper-agent step simulated
   (:class:`qdsega.locomotion.env_world.EnvWorld`); the learner then runs in Python, so only
   small budgets are affordable.
@@ -18,14 +20,18 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from qdsega.agent.grounding import GroundedTransitions
+from qdsega.agent.learner import Generation
+from qdsega.agent.policy import Rollout, rollout
 from qdsega.agent.world import TransitionProvider, World
 from qdsega.description import Formation
 from qdsega.errors import FormationError
 from qdsega.msm import LegLayout, MinimalSimulationModel, Optimum, msm_optimum
+from qdsega.task import Task
 from qdsega.training.config import TrainingConfig
 
 if TYPE_CHECKING:
-    from qdsega.locomotion.env import TaskConfig
+    from qdsega.locomotion.env import LocomotionEnv
 
 MEMO_FILE = "transitions.npz"
 """The memo table in a run folder."""
@@ -33,29 +39,58 @@ MEMO_FILE = "transitions.npz"
 
 @dataclass
 class TrainingWorld:
-    """A world and what the run needs to know about it.
+    """A world, its exact twin, and what the run needs to know about them.
 
     Attributes:
         provider: the world the learner runs in: a posture-transition table, or a
             step-by-step world (exact physics).
+        exact: exact physics to replay each generation's greedy policy in; None where
+            ``provider`` is exact itself (the MSM, PyBullet).
+        grounded: the table that exact replays correct (memo mode with ``ground_table``;
+            it is also ``provider``), else None.
+        task: the rules.
         optimum: the exact optimum where one is known (the MSM), else None.
         layout: the legs, for gait figures; None for a legless formation.
     """
 
     provider: TransitionProvider | World
+    exact: World | None
+    grounded: GroundedTransitions | None
+    task: Task
     optimum: Optimum | None
     layout: LegLayout | None
 
+    def replay(self, generation: Generation) -> Rollout:
+        """The generation's greedy policy replayed with exact physics (its own greedy trial
+        where the learner's world is exact); a grounded table learns its moves."""
+        if self.exact is None:
+            return generation.greedy
+        trial = rollout(generation.policy, self.exact, steps=self.task.trial_steps)
+        if self.grounded is not None:
+            self.grounded.observe(trial, generation.space.postures[0])
+        return trial
+
+    def state(self) -> dict[str, np.ndarray]:
+        """What the run's history put into the world (grounded observations), as arrays."""
+        return {} if self.grounded is None else self.grounded.state()
+
+    def restore(self, state: dict[str, np.ndarray]) -> None:
+        """Return to :meth:`state`."""
+        if self.grounded is not None and state:
+            self.grounded.restore(state)
+
     def save(self, run: Path) -> None:
         """Keep what the world measured (memo mode) in the run folder."""
-        save = getattr(self.provider, "save", None)
+        memo = self.grounded.base if self.grounded is not None else self.provider
+        save = getattr(memo, "save", None)
         if save is not None:
             save(run / MEMO_FILE)
 
     def close(self) -> None:
-        close = getattr(self.provider, "close", None)
-        if close is not None:
-            close()
+        for world in (self.grounded.base if self.grounded else self.provider, self.exact):
+            close = getattr(world, "close", None)
+            if close is not None:
+                close()
 
 
 def check_world(formation: Formation, config: TrainingConfig) -> None:
@@ -69,9 +104,9 @@ def check_world(formation: Formation, config: TrainingConfig) -> None:
         LegLayout.from_formation(formation)
         return
     try:
-        config.lower_agent.check_formation(formation)
+        config.lower_agent.step_duration_for(formation)
     except ValueError as exc:
-        raise FormationError(f"{formation.name}: {exc}", file=formation.file) from None
+        raise FormationError(str(exc), file=formation.file) from None
 
 
 def build_world(formation: Formation, config: TrainingConfig, run: Path) -> TrainingWorld:
@@ -80,51 +115,43 @@ def build_world(formation: Formation, config: TrainingConfig, run: Path) -> Trai
     Raises:
         FormationError: the formation cannot be modelled by that world (a snake in the MSM).
     """
+    task = Task(config=config.task, light_xy=formation.light.position_m)
     if config.sim == "msm":
         layout = LegLayout.from_formation(formation)  # refuses a legless formation
         model = MinimalSimulationModel(legs=layout, params=config.msm)
-        steps = config.agent.learning.trial_steps
-        return TrainingWorld(
-            model, msm_optimum(model, steps=steps, light_xy=light_of(formation)), layout
-        )
+        optimum = msm_optimum(model, steps=task.trial_steps, light_xy=tuple(task.light))
+        return TrainingWorld(model, None, None, task, optimum, layout)
     layout = LegLayout.from_formation(formation) if formation.legs else None
-    if config.sim == "pybullet":
-        from qdsega.locomotion.env import LocomotionEnv  # starts PyBullet: only when needed
-        from qdsega.locomotion.env_world import EnvWorld
+    from qdsega.locomotion.env_world import EnvWorld  # starts PyBullet: only when needed
 
-        env = LocomotionEnv(formation=formation, task=task_of(config), physics=config.physics)
-        return TrainingWorld(EnvWorld(env=env), None, layout)
+    env = exact_env(formation, config)
+    if config.sim == "pybullet":
+        return TrainingWorld(EnvWorld(env=env), None, None, task, None, layout)
     from qdsega.locomotion.memo import MeasuredTransitions
 
-    provider = MeasuredTransitions(
+    memo = MeasuredTransitions(
         formation=formation,
         lower_agent=config.lower_agent,
         physics=config.physics,
         workers=config.workers,
     )
     if (run / MEMO_FILE).is_file():
-        provider.load(run / MEMO_FILE)
-    return TrainingWorld(provider, None, layout)
+        memo.load(run / MEMO_FILE)
+    grounded = GroundedTransitions(base=memo) if config.ground_table else None
+    provider = grounded if grounded is not None else memo
+    return TrainingWorld(provider, EnvWorld(env=env), grounded, task, None, layout)
 
 
-def task_of(config: TrainingConfig) -> TaskConfig:
-    """The PyBullet task with the learner's trial length, reward, penalty and exterior bins."""
-    from qdsega.locomotion.env import TaskConfig
+def exact_env(formation: Formation, config: TrainingConfig) -> LocomotionEnv:
+    """The run's exact-physics environment: its task, lower agent and physics."""
+    from qdsega.locomotion.env import LocomotionEnv  # starts PyBullet: only when needed
 
-    learning = config.agent.learning
-    return TaskConfig(
-        trial_steps=learning.trial_steps,
-        reward_scale=learning.reward_scale,
-        penalty=learning.penalty,
-        exterior_bin_edges_deg=learning.exterior_bin_edges_deg,
+    return LocomotionEnv(
+        formation=formation,
+        task=config.task,
         lower_agent=config.lower_agent,
+        physics=config.physics,
     )
-
-
-def light_of(formation: Formation) -> tuple[float, float]:
-    """The light position (m) as a plain tuple."""
-    x, y = formation.light.position_m
-    return (float(x), float(y))
 
 
 def leg_states(layout: LegLayout | None, postures: np.ndarray) -> np.ndarray:

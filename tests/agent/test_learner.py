@@ -12,21 +12,23 @@ from qdsega.agent.config import PRESETS, with_budget
 from qdsega.agent.learner import QDSEGA
 from qdsega.description import load_formation
 from qdsega.msm import LegLayout, MinimalSimulationModel, MSMParameters, msm_optimum
+from qdsega.task import Task
 
 
 def _learner(seed: int, generations: int, trials: int) -> tuple[QDSEGA, float]:
     formation = load_formation(ASSEMBLIES_DIR / "quadruped.yaml")
     world = MinimalSimulationModel(legs=LegLayout.from_formation(formation), params=MSMParameters())
-    config = with_budget(PRESETS["paper-legged"], generations=generations, trials=trials)
+    preset = PRESETS["paper-legged"]
+    config = with_budget(preset.agent, generations=generations, trials=trials)
     config = replace(config, genetic=replace(config.genetic, population=40))
     learner = QDSEGA(
         config=config,
         levels=np.full(len(formation.joints), 2),
         world=world,
-        light_xy=formation.light.position_m,
+        task=Task(config=preset.task, light_xy=formation.light.position_m),
         rng=np.random.default_rng(seed),
     )
-    optimum = msm_optimum(world, steps=config.learning.trial_steps, light_xy=(50.0, 0.0))
+    optimum = msm_optimum(world, steps=preset.task.trial_steps, light_xy=(50.0, 0.0))
     return learner, optimum.distance_m
 
 
@@ -37,7 +39,7 @@ def test_same_seed_same_result():
         runs.append(list(learner.run()))
     for a, b in zip(*runs, strict=True):
         assert np.array_equal(a.q, b.q) and np.array_equal(a.space.actions, b.space.actions)
-        assert np.array_equal(a.fitness, b.fitness) and a.greedy_distance == b.greedy_distance
+        assert np.array_equal(a.fitness, b.fitness) and a.greedy.distance_m == b.greedy.distance_m
     other, _ = _learner(8, 1, 300)
     assert not np.array_equal(next(other.run()).q, runs[0][0].q)
 
@@ -56,7 +58,7 @@ def test_a_restored_state_continues_exactly_as_an_uninterrupted_run():
     assert [g.index for g in resumed] == [3, 4]
     for a, b in zip(uninterrupted[2:], resumed, strict=True):
         assert np.array_equal(a.q, b.q) and np.array_equal(a.space.actions, b.space.actions)
-        assert a.greedy_distance == b.greedy_distance
+        assert a.greedy.distance_m == b.greedy.distance_m
 
 
 def test_restore_refuses_a_state_of_another_shape():
@@ -72,15 +74,15 @@ def test_legged12_walks_near_the_optimum_on_a_reduced_budget():
     reproduction has found its gait (0.968 of the optimum) by generation 28."""
     formation = load_formation(ASSEMBLIES_DIR / "legged12.yaml")
     world = MinimalSimulationModel(legs=LegLayout.from_formation(formation), params=MSMParameters())
-    config = with_budget(PRESETS["paper-legged"], generations=36)
+    preset = PRESETS["paper-legged"]
     learner = QDSEGA(
-        config=config,
+        config=with_budget(preset.agent, generations=36),
         levels=np.array([len(j.levels_rad) for j in formation.joints]),
         world=world,
-        light_xy=formation.light.position_m,
+        task=Task(config=preset.task, light_xy=formation.light.position_m),
         rng=np.random.default_rng(4),
     )
-    optimum = msm_optimum(world, steps=config.learning.trial_steps, light_xy=(50.0, 0.0))
+    optimum = msm_optimum(world, steps=preset.task.trial_steps, light_xy=(50.0, 0.0))
     *_, last = learner.run()
-    assert not last.greedy_fell
-    assert last.greedy_distance >= 0.95 * optimum.distance_m
+    assert not last.greedy.failed
+    assert last.greedy.distance_m >= 0.95 * optimum.distance_m

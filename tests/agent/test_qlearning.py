@@ -8,8 +8,10 @@ import numpy as np
 import pytest
 
 from qdsega.agent.boltzmann import boltzmann_select, greedy, temperature
-from qdsega.agent.exterior import bin_edges_rad, exterior_state
 from qdsega.agent.qlearning import learn_on_table, q_update
+from qdsega.task import exterior_state
+
+EDGES = np.radians([-45.0, -15.0, 15.0, 45.0])
 
 
 def test_eq1_update():
@@ -39,14 +41,6 @@ def test_boltzmann_matches_the_distribution_and_becomes_greedy():
     assert greedy(np.array([3.0, 3.0])) == 0  # ties: first
 
 
-def test_exterior_bins():
-    edges = bin_edges_rad([-45, -15, 15, 45])
-    light = (10.0, 0.0)
-    cases = {0.0: 2, math.radians(30): 1, math.radians(-30): 3, math.radians(60): 0, math.pi: 0}
-    for heading, state in cases.items():
-        assert exterior_state(0.0, 0.0, heading, *light, edges) == state
-
-
 def test_compiled_loop_learns_a_two_action_chain():
     # One interior state besides the start; action 0 moves 1 m forward, action 1 falls.
     dx = np.array([[1.0, 0.0], [1.0, 0.0]])
@@ -57,7 +51,7 @@ def test_compiled_loop_learns_a_two_action_chain():
     distances, fell = np.zeros(300), np.zeros(300, dtype=np.bool_)
     steps = learn_on_table(
         q, dx, zeros, zeros, failed, np.array([1, 0]), np.array([100.0, 0.0]),
-        bin_edges_rad([-45, -15, 15, 45]), 300, 3, 0.5, 0.9,
+        EDGES, 300, 3, 0.5, 0.9,
         np.array([150.0, 0.002, 1.0]), 100.0, -100.0, np.random.default_rng(1),
         uses, distances, fell,
     )  # fmt: skip
@@ -101,7 +95,7 @@ def test_compiled_loop_equals_a_plain_reference():
     dtheta = gen.uniform(-0.3, 0.3, (n_interior, n_actions))
     failed = gen.random((n_interior, n_actions)) < 0.15
     next_interior = gen.integers(0, n_interior, n_actions)
-    light, edges = np.array([3.0, 1.0]), bin_edges_rad([-45, -15, 15, 45])
+    light, edges = np.array([3.0, 1.0]), EDGES
     start = gen.normal(0.0, 5.0, (n_interior * 4, n_actions))  # a carried-over table
     q_ref = start.copy()
     _reference_loop(q_ref, dx, dtheta, failed, next_interior, light, edges, 400, 8,

@@ -1,152 +1,130 @@
-"""The Python loop over a step-by-step world equals the compiled loop over the same table."""
+"""One task, three loops: the compiled table loop, the Python loop and the Gymnasium env give
+the same rewards for the same postures; the Python loop equals the compiled one draw for draw."""
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
+import pytest
 
 from qdsega import ASSEMBLIES_DIR
 from qdsega.agent.config import PRESETS
-from qdsega.agent.exterior import bin_edges_rad, exterior_state
 from qdsega.agent.genetic import random_population
-from qdsega.agent.qlearning import greedy_on_table, learn_on_table
+from qdsega.agent.qlearning import learn_on_table
 from qdsega.agent.space import ExplorationSpace
-from qdsega.agent.world import StepResult
-from qdsega.agent.world_loop import greedy_on_world, learn_on_world
+from qdsega.agent.table_world import TableWorld
+from qdsega.agent.world import Transitions
+from qdsega.agent.world_loop import learn_on_world
 from qdsega.description import load_formation
+from qdsega.locomotion.env import LocomotionEnv
+from qdsega.locomotion.env_world import EnvWorld
+from qdsega.locomotion.reference_gaits import leg_gait
 from qdsega.msm import LegLayout, MinimalSimulationModel, MSMParameters
+from qdsega.task import Task, TaskConfig, relative_move
 
-LIGHT = np.array([50.0, 10.0])
+LIGHT = (50.0, 10.0)
+GREEDY = np.array([1e-9, 0.0, 0.0])
+"""An eq. (18) schedule so cold that the roulette always takes the best action."""
 
 
-class TableWorld:
-    """A step-by-step world that walks a transition table, as the compiled loop does."""
+def _learn(world, q, space, task, trials, schedule, alpha, gamma, rng):
+    """The compiled loop on a table, or the Python loop on a step-by-step world."""
+    uses = np.zeros(space.n_actions, dtype=np.int64)
+    distances, fell = np.zeros(trials), np.zeros(trials, dtype=np.bool_)
+    if isinstance(world, Transitions):
+        steps = learn_on_table(
+            q, world.dx, world.dy, world.dtheta, world.failed, space.next_interior, task.light,
+            task.edges, trials, task.trial_steps, alpha, gamma, schedule,
+            task.config.reward_per_m, task.penalty, rng, uses, distances, fell,
+        )  # fmt: skip
+    else:
+        steps = learn_on_world(
+            q, world, space.actions, space.next_interior, n_exterior=task.n_exterior,
+            trials=trials, trial_steps=task.trial_steps, alpha=alpha, gamma=gamma,
+            temperature_params=schedule, rng=rng, uses=uses, distances=distances, fell=fell,
+        )  # fmt: skip
+    return steps, uses, distances, fell
 
-    def __init__(self, space: ExplorationSpace, table, edges: np.ndarray, learning) -> None:
-        self.space, self.table, self.edges, self.learning = space, table, edges, learning
-        self.index = {row.tobytes(): a for a, row in enumerate(space.actions)}
 
-    n_joints = property(lambda self: self.space.actions.shape[1])
+def test_compiled_loop_python_loop_and_env_give_the_same_rewards():
+    """Walk a quadruped through 4 gait postures, then lift every leg (a fall), in exact
+    physics; a table holding the moves measured there must give the same rewards and penalty
+    in the compiled loop and the Python loop. Each loop is forced along the sequence (a
+    temperature near 0, the sequence's actions preferred) with alpha 1 and gamma 0, so that
+    every visited entry of Q ends as the reward of its step."""
+    formation = load_formation(ASSEMBLIES_DIR / "quadruped.yaml")
+    config = TaskConfig(trial_steps=5, distance_unit_m=0.01)
+    env = LocomotionEnv(formation=formation, task=config)
+    all_up = np.array(formation.rest_levels())
+    for leg in formation.legs:
+        all_up[formation.joint_index(leg.lift_joint)] = 1
+    sequence = np.vstack([leg_gait(formation, gait="wave", steps=4), all_up])
+    start = env.start_levels
+    assert len(np.unique(np.vstack([start, sequence]), axis=0)) == 6  # every pair once
+    space = ExplorationSpace.from_population(sequence, start)
+    order = [int(np.flatnonzero((space.actions == p).all(axis=1))[0]) for p in sequence]
 
-    def start_posture(self) -> np.ndarray:
-        return self.space.postures[0]
+    # Exact physics: rewards, and the body-frame move of every step.
+    world = EnvWorld(env=env)
+    task = env.task
+    exterior = world.start_trial()
+    rewards, visited, moves = [], [], []
+    interior = 0
+    for a in order:
+        before = world.pose()
+        result = world.command(space.actions[a])
+        rewards.append(result.reward)
+        visited.append((interior * task.n_exterior + exterior, a))
+        moves.append(relative_move(before, world.pose()))
+        interior, exterior = int(space.next_interior[a]), result.exterior
+    assert result.failed and rewards[-1] == config.penalty
+    assert not any(r == config.penalty for r in rewards[:-1])
 
-    def start_trial(self) -> int:
-        self.x = self.y = self.theta = 0.0
-        self.interior = 0
-        return exterior_state(0.0, 0.0, 0.0, LIGHT[0], LIGHT[1], self.edges)
+    shape = (space.n_interior, space.n_actions)
+    dx, dy, dtheta = np.zeros(shape), np.zeros(shape), np.zeros(shape)
+    failed = np.zeros(shape, dtype=np.bool_)
+    interior = 0
+    for a, move in zip(order[:-1], moves[:-1], strict=True):
+        dx[interior, a], dy[interior, a], dtheta[interior, a] = move
+        interior = int(space.next_interior[a])
+    failed[interior, order[-1]] = True
+    table = Transitions(dx=dx, dy=dy, dtheta=dtheta, failed=failed)
 
-    def command(self, posture: np.ndarray) -> StepResult:
-        a, i, t = self.index[np.asarray(posture).tobytes()], self.interior, self.table
-        if t.failed[i, a]:
-            return StepResult(self.learning.penalty, 0, True)
-        before = math.hypot(LIGHT[0] - self.x, LIGHT[1] - self.y)
-        c, s = math.cos(self.theta), math.sin(self.theta)
-        self.x += t.dx[i, a] * c - t.dy[i, a] * s
-        self.y += t.dx[i, a] * s + t.dy[i, a] * c
-        self.theta += t.dtheta[i, a]
-        self.interior = int(self.space.next_interior[a])
-        after = math.hypot(LIGHT[0] - self.x, LIGHT[1] - self.y)
-        exterior = exterior_state(self.x, self.y, self.theta, LIGHT[0], LIGHT[1], self.edges)
-        return StepResult(self.learning.reward_scale * (before - after), exterior, False)
-
-    def distance_covered(self) -> float:
-        return math.hypot(*LIGHT) - math.hypot(LIGHT[0] - self.x, LIGHT[1] - self.y)
-
-    def pose(self) -> tuple[float, float, float]:
-        return (self.x, self.y, self.theta)
+    worlds = {
+        "compiled loop on the table": table,
+        "Python loop on the table": TableWorld(space=space, table=table, task=task),
+        "Python loop in exact physics": world,
+    }
+    for name, learner_world in worlds.items():
+        q = np.zeros((space.n_interior * task.n_exterior, space.n_actions))
+        for s, a in visited:
+            q[s, a] = 1e6
+        steps, *_ = _learn(
+            learner_world, q, space, task, 1, GREEDY, 1.0, 0.0, np.random.default_rng(0)
+        )
+        assert steps == len(order), name
+        got = [q[s, a] for s, a in visited]
+        assert got == pytest.approx(rewards, rel=1e-9, abs=1e-9), name
+    env.close()
 
 
 def test_python_world_loop_matches_the_compiled_table_loop():
     formation = load_formation(ASSEMBLIES_DIR / "quadruped.yaml")
     model = MinimalSimulationModel(legs=LegLayout.from_formation(formation), params=MSMParameters())
-    learning = PRESETS["paper-legged"].learning
-    edges = bin_edges_rad(learning.exterior_bin_edges_deg)
+    preset = PRESETS["paper-legged"]
+    learning, task = preset.agent.learning, Task(config=preset.task, light_xy=LIGHT)
     population = random_population(np.full(8, 2), 12, np.random.default_rng(1))
     space = ExplorationSpace.from_population(population, model.start_posture())
     table = model.transitions(space.postures, space.actions)
-    n_exterior, trials, steps = len(edges), 300, learning.trial_steps
     schedule = np.array(
         [learning.temperature_scale, learning.temperature_rate, learning.temperature_offset]
     )
     results = []
-    for compiled in (True, False):
-        q = np.zeros((space.n_interior * n_exterior, space.n_actions))
-        uses = np.zeros(space.n_actions, dtype=np.int64)
-        distances, fell = np.zeros(trials), np.zeros(trials, dtype=np.bool_)
+    for world in (table, TableWorld(space=space, table=table, task=task)):
+        q = np.zeros((space.n_interior * task.n_exterior, space.n_actions))
         rng = np.random.default_rng(5)
-        if compiled:
-            taken = learn_on_table(
-                q,
-                table.dx,
-                table.dy,
-                table.dtheta,
-                table.failed,
-                space.next_interior,
-                LIGHT,
-                edges,
-                trials,
-                steps,
-                learning.alpha,
-                learning.gamma,
-                schedule,
-                learning.reward_scale,
-                learning.penalty,
-                rng,
-                uses,
-                distances,
-                fell,
-            )
-        else:
-            taken = learn_on_world(
-                q,
-                TableWorld(space, table, edges, learning),
-                space.actions,
-                space.next_interior,
-                n_exterior=n_exterior,
-                trials=trials,
-                trial_steps=steps,
-                alpha=learning.alpha,
-                gamma=learning.gamma,
-                temperature_params=schedule,
-                rng=rng,
-                uses=uses,
-                distances=distances,
-                fell=fell,
-            )
-        results.append((taken, q, uses, distances, fell))
+        steps, *arrays = _learn(world, q, space, task, 300, schedule, 0.5, 0.9, rng)
+        results.append((steps, q, *arrays))
     (steps_a, *arrays_a), (steps_b, *arrays_b) = results
     assert steps_a == steps_b > 0
     for a, b in zip(arrays_a, arrays_b, strict=True):
         np.testing.assert_allclose(a, b, rtol=1e-12, atol=1e-12)
-
-    q = results[0][1]
-    poses_a, poses_b = np.zeros((steps + 1, 3)), np.zeros((steps + 1, 3))
-    taken_a, taken_b = np.zeros(steps, dtype=np.int64), np.zeros(steps, dtype=np.int64)
-    fell_a = greedy_on_table(
-        q,
-        table.dx,
-        table.dy,
-        table.dtheta,
-        table.failed,
-        space.next_interior,
-        LIGHT,
-        edges,
-        steps,
-        poses_a,
-        taken_a,
-    )
-    fell_b = greedy_on_world(
-        q,
-        TableWorld(space, table, edges, learning),
-        space.actions,
-        space.next_interior,
-        n_exterior=n_exterior,
-        trial_steps=steps,
-        poses=poses_b,
-        taken=taken_b,
-    )
-    assert fell_a == fell_b
-    assert np.array_equal(taken_a, taken_b)
-    np.testing.assert_allclose(poses_a, poses_b, atol=1e-12)

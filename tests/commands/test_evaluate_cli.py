@@ -11,8 +11,9 @@ from helpers import run_cli
 TINY = """\
 workers: 1
 agent:
-  learning: {trials: 20, trial_steps: 4}
+  learning: {trials: 20}
   genetic: {population: 4, generations: 2}
+task: {trial_steps: 4}
 """
 
 
@@ -105,8 +106,9 @@ def test_exact_mode_trains_with_every_step_in_pybullet(tmp_path):
     config = tmp_path / "tiny.yaml"
     config.write_text(
         "agent:\n"
-        "  learning: {trials: 3, trial_steps: 3}\n"
+        "  learning: {trials: 3}\n"
         "  genetic: {population: 4, generations: 2}\n"
+        "task: {trial_steps: 3}\n"
     )
     run = tmp_path / "run"
     result = run_cli(

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import csv
 import json
+import math
 import os
 import signal
 import subprocess
@@ -20,8 +21,9 @@ from qdsega import ASSEMBLIES_DIR
 MEMO_BUDGET = """\
 workers: {workers}
 agent:
-  learning: {{trials: 60, trial_steps: 6}}
+  learning: {{trials: 60}}
   genetic: {{population: 8, generations: 4}}
+task: {{trial_steps: 6}}
 """
 
 
@@ -64,7 +66,7 @@ def _assert_same_result(a: Path, b: Path) -> None:
             for key in x:
                 assert np.array_equal(x[key], y[key]), f"{name}:{key}"
     sa, sb = (json.loads((r / "summary.json").read_text()) for r in (a, b))
-    for key in ("greedy_distance", "generations", "env_steps", "final_heading_deg"):
+    for key in ("distance_m", "greedy_distance", "generations", "env_steps", "final_heading_deg"):
         assert sa[key] == sb[key], key
 
 
@@ -150,7 +152,7 @@ def test_default_run_folder_names_formation_sim_and_seed(tmp_path):
     assert (run / "summary.json").is_file()
     lines = result.stderr.strip().splitlines()  # not a terminal: one log line per generation
     assert [line.split(":")[0] for line in lines] == ["generation 1/2", "generation 2/2"]
-    assert "greedy" in lines[0] and "Q-table" in lines[0] and "ETA" in lines[0]
+    assert "exact" in lines[0] and "Q-table" in lines[0] and "ETA" in lines[0]
 
 
 @pytest.mark.parametrize(
@@ -183,7 +185,7 @@ def test_resume_refuses_a_corrupt_checkpoint(tmp_path):
     assert resumed.returncode == 2 and "corrupt checkpoint.npz" in resumed.stderr
 
 
-def test_a_joint_too_wide_for_one_step_is_refused_before_training(write_formation, tmp_path):
+def test_a_step_too_short_for_a_joint_is_refused_with_the_key_to_change(write_formation, tmp_path):
     formation = write_formation(
         """\
         name: wide
@@ -194,11 +196,41 @@ def test_a_joint_too_wide_for_one_step_is_refused_before_training(write_formatio
              levels_deg: [-90, 90]}
         """
     )
+    config = tmp_path / "short.yaml"
+    config.write_text("lower_agent: {step_duration_s: 0.5}\n")
     run = tmp_path / "run"
-    result = run_cli("train", formation, "--sim", "memo", "--out", run, "--quiet")
+    result = run_cli(
+        "train", formation, "--sim", "memo", "--config", config, "--out", run, "--quiet"
+    )
     assert result.returncode == 2, result.stderr
-    assert "step" in result.stderr and len(result.stderr.strip().splitlines()) == 1
+    assert len(result.stderr.strip().splitlines()) == 1
+    # 180 deg at 1.5 rad/s is 2.09 s; with the arrival margin, 2.15 s on the 0.05 s grid.
+    assert "set lower_agent.step_duration_s to at least 2.15" in result.stderr
     assert not run.exists()
+
+
+def test_a_snake_with_60_deg_level_spans_trains_with_no_configuration(write_formation, tmp_path):
+    formation = write_formation(
+        """\
+        name: wide_snake
+        friction: {lateral: 0.8, anisotropic: [0.01, 1.0, 0.01]}
+        light: {distance_m: 50.0}
+        units:
+          - {name: u1, unit: servo}
+          - {name: "u{i}", repeat: [2, 4], unit: servo, parent: "u{i-1}", connector: back,
+             axis: yaw, levels_deg: {min: -30, max: 30, step: 10}}
+        """
+    )
+    budget = tmp_path / "budget.yaml"  # a small population: nothing about timing
+    budget.write_text("agent: {genetic: {population: 4}}\n")
+    run = tmp_path / "run"
+    result = run_cli(
+        "train", formation, "--sim", "memo", "--preset", "paper-snake", "--config", budget,
+        "--generations", "1", "--trials", "5", "--workers", "1", "--out", run, "--quiet",
+    )  # fmt: skip
+    assert result.returncode == 0, result.stderr
+    summary = json.loads((run / "summary.json").read_text())
+    assert summary["generations"] == 1 and math.isfinite(summary["distance_m"])
 
 
 def test_resume_refuses_a_checkpoint_that_does_not_fit_the_configuration(tmp_path):

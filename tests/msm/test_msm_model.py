@@ -8,10 +8,10 @@ import numpy as np
 import pytest
 
 from qdsega import ASSEMBLIES_DIR
-from qdsega.agent.world import integrate_pose
 from qdsega.description import load_formation
 from qdsega.errors import FormationError
 from qdsega.msm import LegLayout, MinimalSimulationModel, MSMParameters, side_force
+from qdsega.task import move_pose
 
 
 def posture(legs: LegLayout, states: list[int]) -> np.ndarray:
@@ -59,9 +59,9 @@ def test_one_side_striding_turns_the_robot_toward_the_other_side(layout):
     b = posture(legs, [3, 1, 2, 2])  # left: one lifts, one stands (F^l 0); right strokes
     t = model.transitions(a[None], b[None])
     assert t.dtheta[0, 0] > 0  # more push on the right: counter-clockwise, toward the left
-    pose = integrate_pose((0.0, 0.0, 0.0), t.dx[0, 0], t.dy[0, 0], t.dtheta[0, 0])
+    pose = move_pose(0.0, 0.0, 0.0, t.dx[0, 0], t.dy[0, 0], t.dtheta[0, 0])
     assert pose[0] == pytest.approx(t.dx[0, 0]) and pose[1] == 0.0  # eqs. 14-15 use theta(t)
-    pose = integrate_pose(pose, 1.0, 0.0, 0.0)
+    pose = move_pose(*pose, 1.0, 0.0, 0.0)
     assert pose[1] == pytest.approx(math.sin(t.dtheta[0, 0]))
 
 

@@ -18,6 +18,7 @@ def _report(generation: int) -> GenerationReport:
         generation=generation,
         generations=4,
         greedy_distance_m=0.25 * generation,
+        greedy_exact_m=0.2 * generation,
         actions=12,
         q_entries=480,
         steps_per_s=1500.0,
@@ -36,7 +37,7 @@ def test_a_terminal_gets_a_bar_that_starts_where_a_resumed_run_stands(monkeypatc
     display.close()
     text = stream.getvalue()
     assert "generation 1/4" in text and "generation 2/4" in text and "\r" in text
-    assert "left, greedy 0.500 m, Q-table 12 actions (480 entries), 1,500 steps/s" in text
+    assert "left, exact 0.400 m (predicted 0.500 m), Q-table 12 actions" in text
 
 
 def test_a_log_gets_lines_with_elapsed_time_and_eta():
@@ -46,6 +47,6 @@ def test_a_log_gets_lines_with_elapsed_time_and_eta():
     display.generation(_report(2))
     display.close()
     assert stream.getvalue() == (
-        "generation 2/4: greedy 0.500 m, Q-table 12 actions (480 entries), 1,500 steps/s, "
-        "elapsed 1:00, ETA 1:00\n"
+        "generation 2/4: exact 0.400 m (predicted 0.500 m), Q-table 12 actions (480 entries), "
+        "1,500 steps/s, elapsed 1:00, ETA 1:00\n"
     )

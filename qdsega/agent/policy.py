@@ -1,0 +1,143 @@
+"""The greedy policy of a learnt Q-table, and the one function that runs it in any world.
+
+Training (each generation's greedy trial on the table and its replay in exact physics),
+evaluation and rendering all replay a policy through :func:`rollout`, so they see the same
+trial: the same tie rule, the same interior-state bookkeeping, the same end of the trial.
+"""
+
+from __future__ import annotations
+
+import zipfile
+from collections.abc import Callable
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from qdsega.agent.boltzmann import greedy
+from qdsega.agent.space import ExplorationSpace
+from qdsega.agent.world import World
+from qdsega.atomic import replaced_atomically
+
+_ARRAYS = ("q", "actions", "postures", "next_interior")
+
+
+@dataclass(frozen=True)
+class GreedyPolicy:
+    """Take the action of largest Q(s, .) (ties: the first) in state ``s``.
+
+    Attributes:
+        q: the Q-table, shape (n_interior * n_exterior, A); row ``interior * n_exterior +
+            exterior``.
+        actions: the action postures (level indices), shape (A, J).
+        postures: interior-state postures, the start posture first, shape (n_interior, J).
+        next_interior: interior state each action leads to, shape (A,).
+    """
+
+    q: np.ndarray
+    actions: np.ndarray
+    postures: np.ndarray
+    next_interior: np.ndarray
+
+    def __post_init__(self) -> None:
+        n_actions = len(self.actions)
+        if self.q.ndim != 2 or self.q.shape[1] != n_actions or n_actions == 0:
+            raise ValueError(f"q {self.q.shape} does not fit {n_actions} actions")
+        if len(self.postures) == 0 or self.q.shape[0] % len(self.postures):
+            raise ValueError(f"q has {self.q.shape[0]} rows for {len(self.postures)} postures")
+        if self.next_interior.shape != (n_actions,):
+            raise ValueError(f"next_interior {self.next_interior.shape} != ({n_actions},)")
+
+    @classmethod
+    def of(cls, space: ExplorationSpace, q: np.ndarray) -> GreedyPolicy:
+        """The greedy policy of ``q`` over a generation's ``space``."""
+        return cls(
+            q=q, actions=space.actions, postures=space.postures, next_interior=space.next_interior
+        )
+
+    @property
+    def n_exterior(self) -> int:
+        return self.q.shape[0] // len(self.postures)
+
+    def act(self, interior: int, exterior: int) -> int:
+        """The action index to take in (interior, exterior)."""
+        return int(greedy(self.q[interior * self.n_exterior + exterior]))
+
+    def save(self, file: Path) -> None:
+        """Write ``file`` (npz: q, actions, postures, next_interior), atomically."""
+        with replaced_atomically(file) as partial:
+            np.savez_compressed(partial, **{name: getattr(self, name) for name in _ARRAYS})
+
+    @classmethod
+    def load(cls, file: Path) -> GreedyPolicy:
+        """Read a policy written by :meth:`save`.
+
+        Raises:
+            ValueError: the file is missing, unreadable or not a policy.
+        """
+        try:
+            with np.load(file) as stored:
+                return cls(**{name: stored[name] for name in _ARRAYS})
+        except (OSError, KeyError, zipfile.BadZipFile) as exc:
+            raise ValueError(f"{exc.__class__.__name__}: {exc}") from None
+
+
+@dataclass(frozen=True)
+class Rollout:
+    """One trial of a policy.
+
+    Attributes:
+        actions: the action taken at each step, -1 after the trial ended, shape (steps,).
+        postures: the commanded postures, in order, shape (k, J), k <= steps (a failed
+            command included as the last row).
+        poses: the world pose (x m, y m, theta rad) before each step and after the last, rows
+            after the end repeating the last pose, shape (steps + 1, 3).
+        failed: whether the trial ended because the lower agent failed.
+        distance_m: distance toward the light covered (m).
+    """
+
+    actions: np.ndarray
+    postures: np.ndarray
+    poses: np.ndarray
+    failed: bool
+    distance_m: float
+
+    def reached_postures(self, start: np.ndarray) -> np.ndarray:
+        """The postures the robot was in, the start posture first, shape (k' + 1, J): a failed
+        last command is not reached."""
+        reached = self.postures[:-1] if self.failed else self.postures
+        return np.vstack([np.asarray(start)[None, :], reached])
+
+
+def rollout(
+    policy: GreedyPolicy,
+    world: World,
+    *,
+    steps: int,
+    record: Callable[[], None] | None = None,
+) -> Rollout:
+    """Run one trial of ``policy`` in ``world`` for ``steps`` commands or until it fails.
+
+    ``record``, if given, is called once the trial has started and after every command (to
+    keep whatever else the world can tell)."""
+    taken = np.full(steps, -1, dtype=np.int64)
+    poses = np.zeros((steps + 1, 3))
+    commanded = []
+    exterior = world.start_trial()
+    poses[0] = world.pose()
+    if record is not None:
+        record()
+    interior, failed = 0, False
+    for step in range(steps):
+        if not failed:
+            a = policy.act(interior, exterior)
+            taken[step] = a
+            commanded.append(policy.actions[a])
+            result = world.command(policy.actions[a])
+            failed = result.failed
+            interior, exterior = int(policy.next_interior[a]), result.exterior
+            if record is not None:
+                record()
+        poses[step + 1] = world.pose()
+    postures = np.array(commanded, dtype=np.int64).reshape(-1, policy.actions.shape[1])
+    return Rollout(taken, postures, poses, failed, world.distance_covered())

@@ -1,0 +1,67 @@
+"""A transition table walked one command at a time: the step-by-step view of a table world.
+
+The compiled learning loop walks the table itself; this class lets everything that runs trials
+one command at a time (:func:`qdsega.agent.policy.rollout`, the Python learning loop) walk the
+same table under the same rules (:class:`qdsega.task.Task`).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from qdsega.agent.space import ExplorationSpace
+from qdsega.agent.world import StepResult, Transitions
+from qdsega.task import Pose, Task, move_pose
+
+
+class TableWorld:
+    """A :class:`qdsega.agent.world.World` over one generation's transition table.
+
+    Args:
+        space: the generation's actions and interior states.
+        table: outcomes of every action from every interior state, shape (n_interior, A).
+        task: the rules.
+    """
+
+    def __init__(self, *, space: ExplorationSpace, table: Transitions, task: Task) -> None:
+        if np.shape(table.dx) != (space.n_interior, space.n_actions):
+            raise ValueError(
+                f"table {np.shape(table.dx)} does not fit the space "
+                f"({space.n_interior}, {space.n_actions})"
+            )
+        self.space = space
+        self.table = table
+        self.task = task
+        self._action = {row.tobytes(): a for a, row in enumerate(space.actions)}
+        self._interior = 0
+        self._pose: Pose = (0.0, 0.0, 0.0)
+
+    @property
+    def n_joints(self) -> int:
+        return self.space.actions.shape[1]
+
+    def start_posture(self) -> np.ndarray:
+        return self.space.postures[0].copy()
+
+    def start_trial(self) -> int:
+        self._interior = 0
+        self._pose = (0.0, 0.0, 0.0)
+        return self.task.exterior(self._pose)
+
+    def command(self, posture: np.ndarray) -> StepResult:
+        a = self._action[np.asarray(posture, dtype=np.int64).tobytes()]
+        i, t = self._interior, self.table
+        if t.failed[i, a]:
+            return StepResult(self.task.penalty, self.task.exterior(self._pose), True)
+        before = self._pose
+        self._pose = move_pose(*before, t.dx[i, a], t.dy[i, a], t.dtheta[i, a])
+        self._interior = int(self.space.next_interior[a])
+        return StepResult(
+            self.task.reward(before, self._pose), self.task.exterior(self._pose), False
+        )
+
+    def distance_covered(self) -> float:
+        return self.task.covered((0.0, 0.0, 0.0), self._pose)
+
+    def pose(self) -> Pose:
+        return self._pose
