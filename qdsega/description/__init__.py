@@ -7,8 +7,8 @@ from qdsega.description.formation import (
     Leg,
     Light,
     PlacedUnit,
-    load_formation,
 )
+from qdsega.description.formation_reader import load_formation
 from qdsega.description.unit_type import Connector, JointSpec, UnitType, load_unit_type
 
 __all__ = [
