@@ -8,12 +8,23 @@ from __future__ import annotations
 
 import math
 import re
+from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
 from qdsega import UNITS_DIR
 from qdsega.description.formation import Formation, Friction, Leg, Light, PlacedUnit
+from qdsega.description.limits import (
+    ANGLE_DEG,
+    AXIS_COMPONENT,
+    FRICTION,
+    LEVEL_STEP_DEG,
+    LIGHT_DISTANCE_M,
+    MAX_LEVELS,
+    MAX_UNITS,
+    REPEAT_INDEX,
+)
 from qdsega.description.unit_type import JointSpec, UnitType, load_unit_type
 from qdsega.description.yaml_reader import KeyPath, Reader, load_yaml
 from qdsega.errors import FormationError
@@ -103,9 +114,9 @@ def _read_friction(reader: Reader, path: KeyPath, value: Any, default: Friction 
     lateral = 1.0 if default is None else default.lateral
     anisotropic = (1.0, 1.0, 1.0) if default is None else default.anisotropic
     if "lateral" in raw:
-        lateral = reader.number((*path, "lateral"), raw["lateral"], positive=True)
+        lateral = reader.number((*path, "lateral"), raw["lateral"], FRICTION)
     if "anisotropic" in raw:
-        anisotropic = reader.vector((*path, "anisotropic"), raw["anisotropic"], 3, positive=True)
+        anisotropic = reader.vector((*path, "anisotropic"), raw["anisotropic"], 3, FRICTION)
     return Friction(lateral=lateral, anisotropic=anisotropic)  # type: ignore[arg-type]
 
 
@@ -113,9 +124,9 @@ def _read_light(reader: Reader, value: Any) -> Light:
     path: KeyPath = ("light",)
     raw = reader.mapping(path, value, required=("distance_m",), optional=("bearing_deg",))
     return Light(
-        distance_m=reader.number((*path, "distance_m"), raw["distance_m"], positive=True),
+        distance_m=reader.number((*path, "distance_m"), raw["distance_m"], LIGHT_DISTANCE_M),
         bearing_rad=math.radians(
-            reader.number((*path, "bearing_deg"), raw.get("bearing_deg", 0.0))
+            reader.number((*path, "bearing_deg"), raw.get("bearing_deg", 0.0), ANGLE_DEG)
         ),
     )
 
@@ -177,9 +188,9 @@ def _expand(
         required = ("name", "template") if is_instance else ("name", "unit")
         entry = reader.mapping(path, entry, required=required, optional=keys)
         name_template = reader.text((*path, "name"), entry["name"])
-        indices: list[int | None] = [None]
+        indices: Sequence[int | None] = [None]
         if "repeat" in entry:
-            indices = list(_read_repeat(reader, (*path, "repeat"), entry["repeat"]))
+            indices = _read_repeat(reader, (*path, "repeat"), entry["repeat"])
             if not _INDEX.search(name_template):
                 raise reader.error((*path, "name"), "a repeated entry's name needs {i}")
         for i in indices:
@@ -190,19 +201,25 @@ def _expand(
                 if key != "repeat"
             }
             name = _substitute(name_template, i)
-            if not is_instance:
+            if is_instance:
+                template_name = fields.pop("template")
+                template = templates.get(template_name.value)
+                if template is None:
+                    message = f"unknown template '{template_name.value}'"
+                    raise reader.error(template_name.path, message)
+                instance = _RawUnit(path, name, fields, note)
+                raw_units.extend(_instantiate(reader, instance, template))
+                if template.leg is not None:
+                    leg_specs.append((instance, template))
+                elif "side" in fields:
+                    raise reader.error(fields["side"].path, "'side' is only for leg templates")
+            else:
                 raw_units.append(_RawUnit(path, name, fields, note))
-                continue
-            template_name = fields.pop("template")
-            template = templates.get(template_name.value)
-            if template is None:
-                raise reader.error(template_name.path, f"unknown template '{template_name.value}'")
-            instance = _RawUnit(path, name, fields, note)
-            raw_units.extend(_instantiate(reader, instance, template))
-            if template.leg is not None:
-                leg_specs.append((instance, template))
-            elif "side" in fields:
-                raise reader.error(fields["side"].path, "'side' is only for leg templates")
+            if len(raw_units) > MAX_UNITS:
+                break
+        if len(raw_units) > MAX_UNITS:
+            where = (*path, "repeat") if "repeat" in entry else path
+            raise reader.error(where, f"more than {MAX_UNITS} units; a formation has at most that")
     return raw_units, leg_specs
 
 
@@ -210,7 +227,7 @@ def _read_repeat(reader: Reader, path: KeyPath, value: Any) -> range:
     bounds = reader.sequence(path, value)
     if len(bounds) != 2:
         raise reader.error(path, "expected [first, last] (inclusive integers)")
-    first, last = (reader.integer((*path, k), x) for k, x in enumerate(bounds))
+    first, last = (reader.integer((*path, k), x, REPEAT_INDEX) for k, x in enumerate(bounds))
     if first > last:
         raise reader.error(path, f"first ({first}) must not exceed last ({last})")
     return range(first, last + 1)
@@ -307,8 +324,8 @@ def _read_axis(reader: Reader, source: _Value, raw: _RawUnit) -> tuple[float, fl
         if source.value not in AXES:
             raise _error(reader, raw, "axis", f"expected one of {', '.join(AXES)} or [x, y, z]")
         return AXES[source.value]
-    x, y, z = reader.vector(source.path, source.value, 3)
-    norm = math.sqrt(x * x + y * y + z * z)
+    x, y, z = reader.vector(source.path, source.value, 3, AXIS_COMPONENT)
+    norm = math.hypot(x, y, z)
     if norm < 1e-9:
         raise _error(reader, raw, "axis", "axis vector must not be zero")
     return (x / norm, y / norm, z / norm)
@@ -317,32 +334,49 @@ def _read_axis(reader: Reader, source: _Value, raw: _RawUnit) -> tuple[float, fl
 def _read_levels(
     reader: Reader, source: _Value, raw: _RawUnit, joint: JointSpec
 ) -> tuple[float, ...]:
+    """A joint's levels (rad); bounds and count are checked before a range is expanded."""
     path, value = source.path, source.value
     if isinstance(value, dict):
         spec = reader.mapping(path, value, required=("min", "max", "step"))
-        low = reader.number((*path, "min"), spec["min"])
-        high = reader.number((*path, "max"), spec["max"])
-        step = reader.number((*path, "step"), spec["step"], positive=True)
+        low = _read_level(reader, (*path, "min"), spec["min"], raw, joint)
+        high = _read_level(reader, (*path, "max"), spec["max"], raw, joint)
+        step = reader.number((*path, "step"), spec["step"], LEVEL_STEP_DEG)
         if high < low:
-            raise reader.error((*path, "max"), f"max ({high}) is below min ({low}){raw.note}")
-        count = round((high - low) / step)
+            raise reader.error((*path, "max"), f"max ({high:g}) is below min ({low:g}){raw.note}")
+        spans = (high - low) / step
+        if spans > MAX_LEVELS - 1 + 1e-9:
+            raise reader.error(
+                (*path, "step"),
+                f"gives {spans + 1:.0f} levels; a joint has at most {MAX_LEVELS}{raw.note}",
+            )
+        count = round(spans)
         if abs(low + count * step - high) > 1e-9 * max(1.0, abs(high)):
             raise reader.error((*path, "step"), f"(max - min) is not a multiple of step{raw.note}")
         degrees = [low + k * step for k in range(count + 1)]
     else:
         items = reader.sequence(path, value, min_length=1)
-        degrees = [reader.number((*path, k), x) for k, x in enumerate(items)]
+        if len(items) > MAX_LEVELS:
+            raise reader.error(
+                path, f"{len(items)} levels; a joint has at most {MAX_LEVELS}{raw.note}"
+            )
+        degrees = [_read_level(reader, (*path, k), x, raw, joint) for k, x in enumerate(items)]
     if len(set(degrees)) != len(degrees):
         raise reader.error(path, f"levels must be distinct{raw.note}")
-    lower, upper = math.degrees(joint.lower_rad), math.degrees(joint.upper_rad)
-    for k, level in enumerate(degrees):
-        if not lower - 1e-9 <= level <= upper + 1e-9:
-            raise reader.error(
-                (*path, k) if isinstance(value, list) else path,
-                f"level {level:g} deg is outside the joint limits [{lower:g}, {upper:g}] deg"
-                f"{raw.note}",
-            )
     return tuple(math.radians(d) for d in degrees)
+
+
+def _read_level(
+    reader: Reader, path: KeyPath, value: Any, raw: _RawUnit, joint: JointSpec
+) -> float:
+    """One level (deg), inside the joint's limits."""
+    level = reader.number(path, value, ANGLE_DEG)
+    lower, upper = math.degrees(joint.lower_rad), math.degrees(joint.upper_rad)
+    if not lower - 1e-9 <= level <= upper + 1e-9:
+        raise reader.error(
+            path,
+            f"level {level:g} deg is outside the joint limits [{lower:g}, {upper:g}] deg{raw.note}",
+        )
+    return level
 
 
 def _tree_order(
@@ -354,7 +388,7 @@ def _tree_order(
     if not roots:
         raise reader.error(("units",), "no root unit (every unit has a parent): a cycle")
     if len(roots) > 1:
-        names = ", ".join(u.name for u in roots)
+        names = ", ".join(u.name for u in roots[:3]) + (", ..." if len(roots) > 3 else "")
         raise _error(reader, raws[roots[1].name], "name", f"more than one root unit: {names}")
     for unit in units:
         if unit.parent is None:
