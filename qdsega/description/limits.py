@@ -1,7 +1,7 @@
 """Bounds on everything a unit or formation file may hold, checked as each value is read.
 
 They keep a hostile or mistaken file from exhausting time or memory (a billion levels, a
-million units, a YAML alias bomb) and keep bodies within what PyBullet simulates sensibly.
+million units, nested YAML aliases) and keep bodies within what PyBullet simulates sensibly.
 The README's "Limits" table lists them.
 """
 
@@ -33,6 +33,9 @@ MAX_FILE_BYTES = 64 * 1024
 
 MAX_YAML_DEPTH = 32
 """Deepest nesting of mappings and lists in a YAML file; formations need about 6."""
+
+MAX_YAML_VALUES = 100_000
+"""Values (mappings, lists, scalars, keys) in a YAML file, aliases expanded; legged12 has 114."""
 
 MAX_UNITS = 128
 """Units in one formation, counted after repeats and templates are expanded."""

@@ -1,8 +1,8 @@
 """Safe YAML loading that remembers source lines, and typed reads with one-line errors.
 
 Only plain YAML (mappings, sequences, scalars) is accepted: the document is composed into
-nodes and converted by hand, so no Python object is ever constructed from a tag, and size,
-nesting and aliases are bounded before anything is expanded.
+nodes and converted by hand, so no Python object is ever constructed from a tag; file size,
+nesting and the number of values (aliases expanded) are bounded.
 """
 
 from __future__ import annotations
@@ -15,7 +15,7 @@ from typing import Any
 
 import yaml
 
-from qdsega.description.limits import MAX_FILE_BYTES, MAX_YAML_DEPTH, Interval
+from qdsega.description.limits import MAX_FILE_BYTES, MAX_YAML_DEPTH, MAX_YAML_VALUES, Interval
 from qdsega.errors import FormationError
 
 KeyPath = tuple[str | int, ...]
@@ -86,21 +86,26 @@ _SCALAR_CONSTRUCTOR = yaml.SafeLoader("")
 class _Converter:
     """Composed YAML nodes -> plain data, recording the line of every key path.
 
-    Aliases are refused: expanding them could multiply a small file into billions of values
-    (or loop forever, for an alias inside its own anchor).
+    An alias (``*name``) is expanded into a copy of its anchor, so values are counted: a few
+    lines of nested aliases could otherwise expand into billions. An alias inside its own
+    anchor is refused.
     """
 
     def __init__(self, file: Path) -> None:
         self.file = file
         self.lines: dict[KeyPath, int] = {}
-        self.visited: set[int] = set()
+        self.values = 0
+        self.open: set[int] = set()
+        """Nodes being converted (the current node's ancestors)."""
 
     def plain(self, node: yaml.Node, path: KeyPath, *, record: bool = True) -> Any:
         file = self.file
         where = {"file": file, "line": node.start_mark.line + 1, "key_path": format_key_path(path)}
-        if id(node) in self.visited:
-            raise FormationError("YAML aliases (*name) are not supported", **where)
-        self.visited.add(id(node))
+        if id(node) in self.open:
+            raise FormationError("a YAML alias inside its own anchor", **where)
+        self.values += 1
+        if self.values > MAX_YAML_VALUES:
+            raise FormationError(f"more than {MAX_YAML_VALUES} values (aliases expanded)", **where)
         if record:
             self.lines[path] = node.start_mark.line + 1
         if len(path) > MAX_YAML_DEPTH:
@@ -116,11 +121,15 @@ class _Converter:
         if isinstance(node, yaml.SequenceNode):
             if node.tag != "tag:yaml.org,2002:seq":
                 raise FormationError(f"unsupported YAML tag {node.tag}", **where)
-            return [self.plain(item, (*path, i)) for i, item in enumerate(node.value)]
+            self.open.add(id(node))
+            items = [self.plain(item, (*path, i)) for i, item in enumerate(node.value)]
+            self.open.discard(id(node))
+            return items
         if not isinstance(node, yaml.MappingNode):  # pragma: no cover - yaml has 3 kinds
             raise FormationError("unsupported YAML node", **where)
         if node.tag != "tag:yaml.org,2002:map":
             raise FormationError(f"unsupported YAML tag {node.tag}", **where)
+        self.open.add(id(node))
         result: dict[str, Any] = {}
         for key_node, value_node in node.value:
             key = self.plain(key_node, path, record=False)
@@ -134,6 +143,7 @@ class _Converter:
                     key_path=format_key_path((*path, key)),
                 )
             result[key] = self.plain(value_node, (*path, key))
+        self.open.discard(id(node))
         return result
 
 

@@ -94,15 +94,25 @@ def test_templates_count_toward_the_unit_cap(write_formation):
     assert "units[2].repeat: more than 128 units" in _refused(write_formation, text)
 
 
+def test_aliases_expand_like_their_anchors(write_formation):
+    text = SNAKE.replace("levels_deg: {min: -20, max: 20, step: 5}", "levels_deg: &wave [-5, 5]")
+    text += (
+        "  - {name: arm, unit: servo, parent: u1, connector: left, axis: yaw, levels_deg: *wave}\n"
+    )
+    formation = load_formation(write_formation(text))
+    assert {j.levels_rad for j in formation.joints} == {(math.radians(-5), math.radians(5))}
+
+
 def test_an_alias_bomb_is_refused(write_formation):
     text = SNAKE + "".join(
-        f"x{k}: &x{k} [{', '.join([f'*x{k - 1}'] * 9)}]\n" for k in range(1, 9)
+        f"x{k}: &x{k} [{', '.join([f'*x{k - 1}'] * 9)}]\n" for k in range(1, 10)
     ).replace("*x0", "l")
-    assert "YAML aliases (*name) are not supported" in _refused(write_formation, text)
+    assert "more than 100000 values (aliases expanded)" in _refused(write_formation, text)
 
 
 def test_an_alias_inside_its_own_anchor_is_refused(write_formation):
-    assert "aliases" in _refused(write_formation, "name: &a [*a]\n")
+    message = _refused(write_formation, "name: &a [*a]\n")
+    assert "robot.yaml:1: name[0]: a YAML alias inside its own anchor" in message
 
 
 def test_deep_nesting_is_refused(write_formation):
