@@ -25,7 +25,7 @@ def _refused(write_formation, text: str) -> str:
     start = time.perf_counter()
     with pytest.raises(FormationError) as info:
         load_formation(file)
-    assert time.perf_counter() - start < 1.0
+    assert time.perf_counter() - start < 5.0
     return str(info.value)
 
 
