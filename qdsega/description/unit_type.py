@@ -96,6 +96,8 @@ def load_unit_type(units_dir: Path, name: str) -> UnitType:
     """
     folder = units_dir / name
     file = folder / "unit.yaml"
+    if Path(name).name != name or name in (".", ".."):
+        raise FormationError(f"a unit type is a folder name in {units_dir}, got '{name}'")
     if not file.is_file():
         raise FormationError(f"unknown unit type '{name}' (no {file})")
     reader = Reader(load_yaml(file))
@@ -118,6 +120,8 @@ def load_unit_type(units_dir: Path, name: str) -> UnitType:
         connectors[key] = Connector(key, xyz, tuple(math.radians(a) for a in rpy))  # type: ignore[arg-type]
     template_name = reader.text(("link_template",), raw["link_template"])
     template_file = folder / template_name
+    if not template_file.resolve().is_relative_to(folder.resolve()):
+        raise reader.error(("link_template",), f"must be a file in the unit's folder {folder}")
     if not template_file.is_file():
         raise reader.error(("link_template",), f"template file not found: {template_file}")
     template = template_file.read_text(encoding="utf-8")

@@ -144,3 +144,18 @@ def test_unit_numbers_are_bounded(project, write_formation, old, new, expected):
     assert expected in _refused(
         write_formation, SNAKE.replace("name: snake", "name: s\nunits_dir: ../units")
     )
+
+
+@pytest.mark.parametrize("name", ["../units/servo", "/etc", "..", "servo/.."])
+def test_unit_types_are_folder_names(write_formation, name):
+    text = SNAKE.replace("{name: u1, unit: servo}", f"{{name: u1, unit: '{name}'}}")
+    assert "units[0].unit: a unit type is a folder name in" in _refused(write_formation, text)
+
+
+def test_link_templates_stay_in_the_unit_folder(project, write_formation):
+    unit = project / "units" / "servo" / "unit.yaml"
+    unit.write_text(
+        unit.read_text().replace("link_template: link.urdf", "link_template: ../hub/link.urdf")
+    )
+    text = SNAKE.replace("name: snake", "name: s\nunits_dir: ../units")
+    assert "link_template: must be a file in the unit's folder" in _refused(write_formation, text)
