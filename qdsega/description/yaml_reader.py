@@ -134,7 +134,7 @@ class _Converter:
         for key_node, value_node in node.value:
             key = self.plain(key_node, path, record=False)
             if not isinstance(key, str):
-                raise FormationError(f"keys must be text, got {key!r}", **where)
+                raise FormationError(f"keys must be text, got {_clip(key)}", **where)
             if key in result:
                 raise FormationError(
                     "duplicate key",
