@@ -1,14 +1,21 @@
 """qdsega: modular hyper-redundant robots and the QDSEGA reinforcement learner."""
 
+from importlib.resources import files
 from pathlib import Path
 
 __version__ = "0.1.0"
 
-PROJECT_ROOT = Path(__file__).resolve().parent.parent
-"""The checkout's root folder (holds units/ and assemblies/)."""
 
-UNITS_DIR = PROJECT_ROOT / "units"
-"""Shipped unit types, one folder each."""
+def _data_folder(package: str) -> Path:
+    """The folder of data package ``package``; installs are plain files, never zipped."""
+    folder = files(package)
+    if not isinstance(folder, Path):
+        raise ImportError(f"{package} is not a folder on disk ({folder}); install qdsega unzipped")
+    return folder
 
-ASSEMBLIES_DIR = PROJECT_ROOT / "assemblies"
-"""Shipped formation files."""
+
+UNITS_DIR = _data_folder("qdsega.units")
+"""Shipped unit types, one folder each: ``units/`` of the checkout (``qdsega/units`` installed)."""
+
+ASSEMBLIES_DIR = _data_folder("qdsega.assemblies")
+"""Shipped formation files: ``assemblies/`` of the checkout (``qdsega/assemblies`` installed)."""

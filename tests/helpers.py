@@ -6,9 +6,10 @@ import subprocess
 import sys
 from pathlib import Path
 
-from qdsega import ASSEMBLIES_DIR
+from qdsega import ASSEMBLIES_DIR, UNITS_DIR
 
 SHIPPED_FORMATIONS = sorted(ASSEMBLIES_DIR.glob("*.yaml"))
+SHIPPED_UNITS = sorted(p for p in UNITS_DIR.iterdir() if p.is_dir() and p.name != "__pycache__")
 
 
 def run_cli(*args: str | Path, cwd: Path | None = None) -> subprocess.CompletedProcess[str]:

@@ -8,9 +8,7 @@ from pathlib import Path
 
 from helpers import run_cli
 
-from qdsega import ASSEMBLIES_DIR
-
-README = Path(ASSEMBLIES_DIR).parent / "README.md"
+README = Path(__file__).resolve().parents[1] / "README.md"
 TINY = """\
 workers: 1
 agent:

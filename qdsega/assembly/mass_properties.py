@@ -9,6 +9,7 @@ from pathlib import Path
 import numpy as np
 import trimesh
 
+from qdsega.description.limits import POSITION_M, ROTATION_RAD, SIZE_M, Interval
 from qdsega.errors import FormationError
 
 
@@ -54,14 +55,14 @@ def _collision_mesh(collision: ET.Element, folder: Path) -> trimesh.Trimesh:
     if shape is None:
         raise FormationError("a <collision> needs a <geometry>")
     if shape.tag == "box":
-        extents = _floats(shape.get("size"), 3, "box size")
+        extents = _floats(shape.get("size"), 3, "box size", SIZE_M)
         return trimesh.creation.box(extents=extents, transform=transform)
     if shape.tag == "cylinder":
-        radius = _floats(shape.get("radius"), 1, "cylinder radius")[0]
-        length = _floats(shape.get("length"), 1, "cylinder length")[0]
+        radius = _floats(shape.get("radius"), 1, "cylinder radius", SIZE_M)[0]
+        length = _floats(shape.get("length"), 1, "cylinder length", SIZE_M)[0]
         return trimesh.creation.cylinder(radius=radius, height=length, transform=transform)
     if shape.tag == "sphere":
-        radius = _floats(shape.get("radius"), 1, "sphere radius")[0]
+        radius = _floats(shape.get("radius"), 1, "sphere radius", SIZE_M)[0]
         return trimesh.creation.icosphere(subdivisions=4, radius=radius).apply_transform(transform)
     if shape.tag == "mesh":
         mesh = trimesh.load_mesh(folder / shape.get("filename", ""), force="mesh")
@@ -74,20 +75,21 @@ def _collision_mesh(collision: ET.Element, folder: Path) -> trimesh.Trimesh:
 def _origin_transform(origin: ET.Element | None) -> np.ndarray:
     if origin is None:
         return np.eye(4)
-    xyz = _floats(origin.get("xyz", "0 0 0"), 3, "origin xyz", positive=False)
-    rpy = _floats(origin.get("rpy", "0 0 0"), 3, "origin rpy", positive=False)
+    xyz = _floats(origin.get("xyz", "0 0 0"), 3, "origin xyz", POSITION_M)
+    rpy = _floats(origin.get("rpy", "0 0 0"), 3, "origin rpy", ROTATION_RAD)
     transform = trimesh.transformations.euler_matrix(*rpy, axes="sxyz")
     transform[:3, 3] = xyz
     return transform
 
 
-def _floats(text: str | None, count: int, what: str, *, positive: bool = True) -> list[float]:
+def _floats(text: str | None, count: int, what: str, within: Interval) -> list[float]:
+    """``count`` numbers from a URDF attribute, each in ``within`` (so never NaN)."""
     try:
         values = [float(x) for x in (text or "").split()]
     except ValueError:
         values = []
     if len(values) != count:
         raise FormationError(f"{what} needs {count} number(s), got {text!r}")
-    if positive and not all(v > 0 for v in values):
-        raise FormationError(f"{what} must be positive, got {text!r}")
+    if not all(v in within for v in values):
+        raise FormationError(f"{what} must be in {within}, got {text!r}")
     return values

@@ -7,7 +7,7 @@ import time
 from pathlib import Path
 
 from qdsega.assembly import assemble, write_assembly
-from qdsega.description import load_formation
+from qdsega.description import load_formation, resolve_formation
 from qdsega.errors import FormationError
 
 NAME = "assemble"
@@ -15,7 +15,13 @@ HELP = "assemble formation YAML files into URDF files"
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("formations", nargs="+", type=Path, metavar="FORMATION.yaml")
+    parser.add_argument(
+        "formations",
+        nargs="+",
+        type=Path,
+        metavar="FORMATION",
+        help="formation file, or the name of a shipped one (snake5, legged12, ...)",
+    )
     target = parser.add_mutually_exclusive_group()
     target.add_argument(
         "-o", "--output", type=Path, metavar="OUT.urdf", help="output file (one formation only)"
@@ -34,7 +40,7 @@ def run(args: argparse.Namespace) -> int:
     rows = []
     for file in args.formations:
         start = time.perf_counter()
-        formation = load_formation(file)
+        formation = load_formation(resolve_formation(file))
         robot = assemble(formation)
         elapsed_ms = 1000.0 * (time.perf_counter() - start)
         out = args.output or (args.out_dir or Path.cwd()) / f"{formation.name}.urdf"

@@ -16,8 +16,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "source",
         type=Path,
-        metavar="RUN|FORMATION.yaml",
-        help="a run folder, or a formation file together with --postures",
+        metavar="RUN|FORMATION",
+        help="a run folder, or a formation (file or shipped name) together with --postures",
     )
     parser.add_argument("-o", "--output", type=Path, required=True, metavar="OUT.mp4|OUT.gif")
     parser.add_argument(
@@ -36,7 +36,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> int:
     # Imported here: rendering starts PyBullet, which the other commands need not load.
-    from qdsega.description import load_formation
+    from qdsega.description import load_formation, resolve_formation
     from qdsega.rendering.camera import CameraConfig
     from qdsega.training.render import read_postures, render_postures, render_run
 
@@ -56,7 +56,7 @@ def run(args: argparse.Namespace) -> int:
     elif args.postures is None:
         raise FormationError("a formation file needs --postures FILE.csv", file=args.source)
     else:
-        formation = load_formation(args.source)
+        formation = load_formation(resolve_formation(args.source))
         postures = read_postures(args.postures, len(formation.joints))
         film = render_postures(formation, postures, args.output, camera)
     if not film.egl:

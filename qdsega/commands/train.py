@@ -8,6 +8,7 @@ from functools import partial
 from pathlib import Path
 
 from qdsega.agent.config import PRESETS
+from qdsega.description import resolve_formation
 from qdsega.errors import FormationError
 from qdsega.training.config import SIMULATORS, resolve_config
 from qdsega.training.progress import ProgressDisplay
@@ -75,6 +76,7 @@ def run(args: argparse.Namespace) -> int:
     else:
         if args.formation is None:
             raise FormationError("give a FORMATION.yaml to train, or --resume RUN")
+        args.formation = resolve_formation(args.formation)
         preset = args.preset or "paper-legged"
         config = resolve_config(preset=preset, file=args.config, overrides=_overrides(args))
         out = args.out or RUNS_DIR / f"{args.formation.stem}-{config.sim}-seed{config.seed}"

@@ -7,8 +7,9 @@ from qdsega.description.formation import (
     Leg,
     Light,
     PlacedUnit,
-    load_formation,
 )
+from qdsega.description.formation_reader import load_formation
+from qdsega.description.shipped import resolve_formation, shipped_formation_names
 from qdsega.description.unit_type import Connector, JointSpec, UnitType, load_unit_type
 
 __all__ = [
@@ -23,4 +24,6 @@ __all__ = [
     "UnitType",
     "load_formation",
     "load_unit_type",
+    "resolve_formation",
+    "shipped_formation_names",
 ]

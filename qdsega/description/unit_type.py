@@ -12,6 +12,14 @@ import xml.etree.ElementTree as ET
 from dataclasses import dataclass
 from pathlib import Path
 
+from qdsega.description.limits import (
+    ANGLE_DEG,
+    EFFORT_NM,
+    JOINT_LIMIT_DEG,
+    MASS_KG,
+    POSITION_M,
+    SPEED_RAD_S,
+)
 from qdsega.description.yaml_reader import Reader, load_yaml
 from qdsega.errors import FormationError
 
@@ -88,6 +96,8 @@ def load_unit_type(units_dir: Path, name: str) -> UnitType:
     """
     folder = units_dir / name
     file = folder / "unit.yaml"
+    if Path(name).name != name or name in (".", ".."):
+        raise FormationError(f"a unit type is a folder name in {units_dir}, got '{name}'")
     if not file.is_file():
         raise FormationError(f"unknown unit type '{name}' (no {file})")
     reader = Reader(load_yaml(file))
@@ -98,18 +108,20 @@ def load_unit_type(units_dir: Path, name: str) -> UnitType:
         optional=("description", "joint"),
     )
     description = reader.text(("description",), raw.get("description", name))
-    mass_kg = reader.number(("mass_kg",), raw["mass_kg"], positive=True)
+    mass_kg = reader.number(("mass_kg",), raw["mass_kg"], MASS_KG)
     joint = None if "joint" not in raw else _read_joint(reader, raw["joint"])
     connectors_raw = reader.mapping(("connectors",), raw["connectors"], optional=raw["connectors"])
     connectors = {}
     for key, value in connectors_raw.items():
         path = ("connectors", key)
         entry = reader.mapping(path, value, required=("xyz_m",), optional=("rpy_deg",))
-        xyz = reader.vector((*path, "xyz_m"), entry["xyz_m"], 3)
-        rpy = reader.vector((*path, "rpy_deg"), entry.get("rpy_deg", [0, 0, 0]), 3)
+        xyz = reader.vector((*path, "xyz_m"), entry["xyz_m"], 3, POSITION_M)
+        rpy = reader.vector((*path, "rpy_deg"), entry.get("rpy_deg", [0, 0, 0]), 3, ANGLE_DEG)
         connectors[key] = Connector(key, xyz, tuple(math.radians(a) for a in rpy))  # type: ignore[arg-type]
     template_name = reader.text(("link_template",), raw["link_template"])
     template_file = folder / template_name
+    if not template_file.resolve().is_relative_to(folder.resolve()):
+        raise reader.error(("link_template",), f"must be a file in the unit's folder {folder}")
     if not template_file.is_file():
         raise reader.error(("link_template",), f"template file not found: {template_file}")
     template = template_file.read_text(encoding="utf-8")
@@ -131,17 +143,15 @@ def _read_joint(reader: Reader, value: object) -> JointSpec:
     raw = reader.mapping(
         path, value, required=("lower_deg", "upper_deg", "effort_nm", "velocity_rad_s")
     )
-    lower = reader.number((*path, "lower_deg"), raw["lower_deg"])
-    upper = reader.number((*path, "upper_deg"), raw["upper_deg"])
+    lower = reader.number((*path, "lower_deg"), raw["lower_deg"], JOINT_LIMIT_DEG)
+    upper = reader.number((*path, "upper_deg"), raw["upper_deg"], JOINT_LIMIT_DEG)
     if not lower < upper:
         raise reader.error((*path, "upper_deg"), f"must exceed lower_deg ({lower}), got {upper}")
     return JointSpec(
         lower_rad=math.radians(lower),
         upper_rad=math.radians(upper),
-        effort_nm=reader.number((*path, "effort_nm"), raw["effort_nm"], positive=True),
-        velocity_rad_s=reader.number(
-            (*path, "velocity_rad_s"), raw["velocity_rad_s"], positive=True
-        ),
+        effort_nm=reader.number((*path, "effort_nm"), raw["effort_nm"], EFFORT_NM),
+        velocity_rad_s=reader.number((*path, "velocity_rad_s"), raw["velocity_rad_s"], SPEED_RAD_S),
     )
 
 

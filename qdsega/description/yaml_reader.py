@@ -1,7 +1,8 @@
 """Safe YAML loading that remembers source lines, and typed reads with one-line errors.
 
 Only plain YAML (mappings, sequences, scalars) is accepted: the document is composed into
-nodes and converted by hand, so no Python object is ever constructed from a tag.
+nodes and converted by hand, so no Python object is ever constructed from a tag; file size,
+nesting and the number of values (aliases expanded) are bounded.
 """
 
 from __future__ import annotations
@@ -14,6 +15,7 @@ from typing import Any
 
 import yaml
 
+from qdsega.description.limits import MAX_FILE_BYTES, MAX_YAML_DEPTH, MAX_YAML_VALUES, Interval
 from qdsega.errors import FormationError
 
 KeyPath = tuple[str | int, ...]
@@ -52,6 +54,9 @@ class YamlDocument:
 def load_yaml(file: Path) -> YamlDocument:
     """Read ``file`` as plain YAML; raise :class:`FormationError` for anything else."""
     try:
+        size = file.stat().st_size
+        if size > MAX_FILE_BYTES:
+            raise FormationError(f"file is {size} bytes; at most {MAX_FILE_BYTES}", file=file)
         text = file.read_text(encoding="utf-8")
     except FileNotFoundError:
         raise FormationError("file not found", file=file) from None
@@ -59,6 +64,8 @@ def load_yaml(file: Path) -> YamlDocument:
         raise FormationError(f"cannot read file ({exc.__class__.__name__})", file=file) from None
     try:
         root = yaml.compose(text, Loader=yaml.SafeLoader)
+    except RecursionError:
+        raise FormationError(f"nested deeper than {MAX_YAML_DEPTH} levels", file=file) from None
     except yaml.MarkedYAMLError as exc:
         mark = exc.problem_mark or exc.context_mark
         line = None if mark is None else mark.line + 1
@@ -68,34 +75,66 @@ def load_yaml(file: Path) -> YamlDocument:
         raise FormationError(f"YAML error: {exc}", file=file) from None
     if root is None:
         raise FormationError("file is empty", file=file)
-    lines: dict[KeyPath, int] = {}
-    data = _to_plain(root, (), lines, file)
-    return YamlDocument(file=file, data=data, lines=lines)
+    converter = _Converter(file)
+    data = converter.plain(root, ())
+    return YamlDocument(file=file, data=data, lines=converter.lines)
 
 
 _SCALAR_CONSTRUCTOR = yaml.SafeLoader("")
 
 
-def _to_plain(node: yaml.Node, path: KeyPath, lines: dict[KeyPath, int], file: Path) -> Any:
-    lines[path] = node.start_mark.line + 1
-    where = {"file": file, "line": node.start_mark.line + 1, "key_path": format_key_path(path)}
-    if isinstance(node, yaml.ScalarNode):
-        try:
-            return _SCALAR_CONSTRUCTOR.construct_object(node)
-        except yaml.constructor.ConstructorError:
-            raise FormationError(f"unsupported YAML tag {node.tag}", **where) from None
-    if isinstance(node, yaml.SequenceNode):
-        if node.tag != "tag:yaml.org,2002:seq":
-            raise FormationError(f"unsupported YAML tag {node.tag}", **where)
-        return [_to_plain(item, (*path, i), lines, file) for i, item in enumerate(node.value)]
-    if isinstance(node, yaml.MappingNode):
+class _Converter:
+    """Composed YAML nodes -> plain data, recording the line of every key path.
+
+    An alias (``*name``) is expanded into a copy of its anchor, so values are counted: a few
+    lines of nested aliases could otherwise expand into billions. An alias inside its own
+    anchor is refused.
+    """
+
+    def __init__(self, file: Path) -> None:
+        self.file = file
+        self.lines: dict[KeyPath, int] = {}
+        self.values = 0
+        self.open: set[int] = set()
+        """Nodes being converted (the current node's ancestors)."""
+
+    def plain(self, node: yaml.Node, path: KeyPath, *, record: bool = True) -> Any:
+        file = self.file
+        where = {"file": file, "line": node.start_mark.line + 1, "key_path": format_key_path(path)}
+        if id(node) in self.open:
+            raise FormationError("a YAML alias inside its own anchor", **where)
+        self.values += 1
+        if self.values > MAX_YAML_VALUES:
+            raise FormationError(f"more than {MAX_YAML_VALUES} values (aliases expanded)", **where)
+        if record:
+            self.lines[path] = node.start_mark.line + 1
+        if len(path) > MAX_YAML_DEPTH:
+            raise FormationError(f"nested deeper than {MAX_YAML_DEPTH} levels", **where)
+        if isinstance(node, yaml.ScalarNode):
+            try:
+                return _SCALAR_CONSTRUCTOR.construct_object(node)
+            except yaml.constructor.ConstructorError:
+                raise FormationError(f"unsupported YAML tag {node.tag}", **where) from None
+            except ValueError:  # an integer of more digits than Python converts
+                message = f"a number of {len(node.value)} digits is too long"
+                raise FormationError(message, **where) from None
+        if isinstance(node, yaml.SequenceNode):
+            if node.tag != "tag:yaml.org,2002:seq":
+                raise FormationError(f"unsupported YAML tag {node.tag}", **where)
+            self.open.add(id(node))
+            items = [self.plain(item, (*path, i)) for i, item in enumerate(node.value)]
+            self.open.discard(id(node))
+            return items
+        if not isinstance(node, yaml.MappingNode):  # pragma: no cover - yaml has 3 kinds
+            raise FormationError("unsupported YAML node", **where)
         if node.tag != "tag:yaml.org,2002:map":
             raise FormationError(f"unsupported YAML tag {node.tag}", **where)
+        self.open.add(id(node))
         result: dict[str, Any] = {}
         for key_node, value_node in node.value:
-            key = _to_plain(key_node, path, {}, file)
+            key = self.plain(key_node, path, record=False)
             if not isinstance(key, str):
-                raise FormationError(f"keys must be text, got {key!r}", **where)
+                raise FormationError(f"keys must be text, got {_clip(key)}", **where)
             if key in result:
                 raise FormationError(
                     "duplicate key",
@@ -103,9 +142,9 @@ def _to_plain(node: yaml.Node, path: KeyPath, lines: dict[KeyPath, int], file: P
                     line=key_node.start_mark.line + 1,
                     key_path=format_key_path((*path, key)),
                 )
-            result[key] = _to_plain(value_node, (*path, key), lines, file)
+            result[key] = self.plain(value_node, (*path, key))
+        self.open.discard(id(node))
         return result
-    raise FormationError("unsupported YAML node", **where)  # pragma: no cover - yaml has 3 kinds
 
 
 class Reader:
@@ -154,34 +193,37 @@ class Reader:
     def choice(self, path: KeyPath, value: Any, choices: Iterable[str]) -> str:
         options = list(choices)
         if value not in options:
-            raise self.error(path, f"expected one of {', '.join(options)}, got {value!r}")
+            raise self.error(path, f"expected one of {', '.join(options)}, got {_clip(value)}")
         return value
 
-    def number(
-        self, path: KeyPath, value: Any, *, positive: bool = False, nonnegative: bool = False
-    ) -> float:
+    def number(self, path: KeyPath, value: Any, within: Interval) -> float:
+        """``value`` as a number in ``within`` (never NaN or infinite)."""
         if isinstance(value, bool) or not isinstance(value, int | float):
             raise self.error(path, f"expected a number, got {_kind(value)}")
-        if not math.isfinite(value):
-            raise self.error(path, f"expected a finite number, got {value}")
-        if positive and value <= 0:
-            raise self.error(path, f"must be positive, got {value}")
-        if nonnegative and value < 0:
-            raise self.error(path, f"must not be negative, got {value}")
-        return float(value)
+        try:
+            number = float(value)
+        except OverflowError:  # an integer beyond the range of floats
+            number = math.inf if value > 0 else -math.inf
+        if math.isnan(number):
+            raise self.error(path, "expected a number, got nan")
+        if number not in within:
+            raise self.error(path, f"must be in {within}, got {_clip(value)}")
+        return number
 
-    def integer(self, path: KeyPath, value: Any) -> int:
+    def integer(self, path: KeyPath, value: Any, within: Interval) -> int:
+        """``value`` as an integer in ``within``."""
         if isinstance(value, bool) or not isinstance(value, int):
             raise self.error(path, f"expected an integer, got {_kind(value)}")
+        if value not in within:
+            raise self.error(path, f"must be in {within}, got {_clip(value)}")
         return value
 
-    def vector(
-        self, path: KeyPath, value: Any, length: int, *, positive: bool = False
-    ) -> tuple[float, ...]:
+    def vector(self, path: KeyPath, value: Any, length: int, within: Interval) -> tuple[float, ...]:
+        """``value`` as ``length`` numbers, each in ``within``."""
         items = self.sequence(path, value)
         if len(items) != length:
             raise self.error(path, f"expected {length} numbers, got {len(items)}")
-        return tuple(self.number((*path, i), x, positive=positive) for i, x in enumerate(items))
+        return tuple(self.number((*path, i), x, within) for i, x in enumerate(items))
 
 
 def _kind(value: Any) -> str:
@@ -194,5 +236,11 @@ def _kind(value: Any) -> str:
     if isinstance(value, list):
         return "a list"
     if isinstance(value, str):
-        return f"text {value!r}" if value.strip() else "empty text"
-    return f"{type(value).__name__} {value!r}"
+        return f"text {_clip(value)}" if value.strip() else "empty text"
+    return f"{type(value).__name__} {_clip(value)}"
+
+
+def _clip(value: Any, width: int = 40) -> str:
+    """``repr(value)``, cut to ``width`` characters: a message stays one short line."""
+    text = repr(value)
+    return text if len(text) <= width else text[: width - 3] + "..."

@@ -48,10 +48,26 @@ def test_cylinder_inertia_is_close_to_the_closed_form(tmp_path):
 
 @pytest.mark.parametrize(
     "geometry",
-    ['<box size="0.1 0 0.1"/>', '<box size="0.1 0.1"/>', '<sphere radius="-1"/>', "<capsule/>"],
+    [
+        '<box size="0.1 0 0.1"/>',
+        '<box size="0.1 0.1"/>',
+        '<sphere radius="-1"/>',
+        "<capsule/>",
+        '<box size="0.1 nan 0.1"/>',
+        '<box size="0.1 inf 0.1"/>',
+        '<sphere radius="1e9"/>',
+        '<cylinder radius="0.02" length="11"/>',
+    ],
 )
 def test_bad_geometry_is_rejected(tmp_path, geometry):
     with pytest.raises(FormationError):
         link_mass_properties(
             _link(f"<collision><geometry>{geometry}</geometry></collision>"), 1.0, folder=tmp_path
         )
+
+
+@pytest.mark.parametrize("origin", ['xyz="nan 0 0"', 'xyz="0 0 1e6"', 'rpy="0 inf 0"'])
+def test_unbounded_origins_are_rejected(tmp_path, origin):
+    collision = f'<collision><origin {origin}/><geometry><box size="1 1 1"/></geometry></collision>'
+    with pytest.raises(FormationError, match="must be in"):
+        link_mass_properties(_link(collision), 1.0, folder=tmp_path)

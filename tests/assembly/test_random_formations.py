@@ -1,5 +1,11 @@
-"""Property test: random valid formations (chains and trees) assemble and load in PyBullet."""
+"""Random valid formations (chains, trees, legged bodies) read, assemble and load in PyBullet.
 
+The formations come from ``qdsega.description.random_formation``: hypothesis draws the seeds
+here, and ``tools/random_formations.py`` runs the same generator at scale (200 of them below).
+"""
+
+import subprocess
+import sys
 import tempfile
 from pathlib import Path
 
@@ -8,58 +14,67 @@ import yaml
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from qdsega import UNITS_DIR
 from qdsega.assembly import assemble
 from qdsega.description import load_formation
+from qdsega.description.random_formation import random_formation
 from qdsega.simulation.bullet import BulletSimulation
 
-CONNECTORS = ("back", "left", "right")  # both shipped unit types have these
+TOOL = Path(__file__).resolve().parents[2] / "tools" / "random_formations.py"
 
 
-@st.composite
-def formations(draw: st.DrawFn) -> dict:
-    """A formation as YAML data: a random tree of servo and hub units."""
-    count = draw(st.integers(min_value=1, max_value=12))
-    chain = draw(st.booleans())
-    units = [{"name": "n0", "unit": draw(st.sampled_from(["servo", "hub"]))}]
-    free = {"n0": list(CONNECTORS)}
-    for i in range(1, count):
-        candidates = [name for name, slots in free.items() if slots]
-        parent = units[-1]["name"] if chain else draw(st.sampled_from(candidates))
-        if not free[parent]:
-            break
-        connector = "back" if chain else draw(st.sampled_from(free[parent]))
-        free[parent].remove(connector)
-        unit = {
-            "name": f"n{i}",
-            "unit": draw(st.sampled_from(["servo", "hub"])),
-            "parent": parent,
-            "connector": connector,
-        }
-        if unit["unit"] == "servo":
-            unit["axis"] = draw(st.sampled_from(["yaw", "pitch", "roll", [1, 1, 0]]))
-            degrees = draw(st.lists(st.integers(-90, 90), min_size=1, max_size=5, unique=True))
-            unit["levels_deg"] = degrees
-        units.append(unit)
-        free[unit["name"]] = list(CONNECTORS)
-    return {"name": "random", "light": {"distance_m": 5.0}, "units": units}
+def _expected_counts(data: dict) -> tuple[int, int]:
+    """(units, joints) of formation data, counted from its entries: repeats and templates."""
+    units = joints = 0
+    for entry in data["units"]:
+        first, last = entry.get("repeat", [1, 1])
+        copies = last - first + 1
+        if "template" in entry:
+            template_units = data["templates"][entry["template"]]["units"]
+            units += copies * len(template_units)
+            joints += copies * sum(1 for u in template_units if u["unit"] == "servo")
+        else:
+            units += copies
+            joints += copies * (entry["unit"] == "servo" and "parent" in entry)
+    return units, joints
+
+
+def test_the_generator_is_deterministic_and_varied():
+    first = [random_formation(np.random.default_rng(seed)) for seed in range(40)]
+    assert first == [random_formation(np.random.default_rng(seed)) for seed in range(40)]
+    entries = [entry for data in first for entry in data["units"]]
+    assert any("template" in entry for entry in entries), "legged bodies"
+    assert any("repeat" in entry for entry in entries), "repeated entries"
+    assert any(entry.get("connector") in ("left", "right") for entry in entries), "trees"
+    assert {entry["unit"] for entry in entries if "unit" in entry} == {"servo", "hub"}
+    assert any(isinstance(entry.get("axis"), list) for entry in entries), "vector axes"
+    assert any(isinstance(entry.get("levels_deg"), dict) for entry in entries), "level ranges"
 
 
 @settings(max_examples=25, deadline=None, suppress_health_check=[HealthCheck.too_slow])
-@given(formations())
-def test_random_formations_assemble_and_load_in_pybullet(data):
+@given(st.integers(min_value=0, max_value=2**32 - 1))
+def test_random_formations_assemble_and_load_in_pybullet(seed):
+    data = random_formation(np.random.default_rng(seed))
     with tempfile.TemporaryDirectory() as folder:
         file = Path(folder) / "random.yaml"
         file.write_text(yaml.safe_dump(data, sort_keys=False))
-        formation = load_formation(file, units_dir=UNITS_DIR)
+        formation = load_formation(file)
         robot = assemble(formation)
-    assert len(formation.units) == len(data["units"])
-    assert len(formation.joints) == sum(
-        1 for u in data["units"] if u["unit"] == "servo" and "parent" in u
-    )
+    assert (len(formation.units), len(formation.joints)) == _expected_counts(data)
     with BulletSimulation(robot=robot) as sim:
         assert sim.client.getNumJoints(sim.body_id) == len(formation.units) - 1
-        sim.reset(np.zeros(len(formation.joints)))
+        sim.reset(formation.posture_rad(formation.rest_levels()))
         sim.step(24)
         assert np.all(np.isfinite(sim.unit_states()[0]))
         assert np.all(np.isfinite(sim.joint_positions()))
+
+
+def test_two_hundred_random_formations_rest_in_pybullet():
+    result = subprocess.run(
+        [sys.executable, TOOL, "200", "--seed", "0"],
+        capture_output=True,
+        text=True,
+        timeout=300,
+        check=False,
+    )
+    assert result.returncode == 0, result.stderr
+    assert result.stdout.startswith("200 random formations (") and ", 0 failures," in result.stdout

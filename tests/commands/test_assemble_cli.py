@@ -150,7 +150,7 @@ def test_missing_unit_type(project):
 def test_zero_mass(project):
     unit = project / "units" / "servo" / "unit.yaml"
     unit.write_text(unit.read_text().replace("mass_kg: 0.15", "mass_kg: 0"))
-    message = _assert_rejected(project, GOOD, "mass_kg: must be positive, got 0")
+    message = _assert_rejected(project, GOOD, "mass_kg: must be in (0, 100], got 0")
     assert "units/servo/unit.yaml:" in message
 
 
@@ -160,12 +160,14 @@ def test_negative_size(project):
         '<box size="0.1 0.05 0.05"/>', '<box size="0.1 -0.05 0.05"/>'
     )
     template.write_text(text)
-    message = _assert_rejected(project, GOOD, "box size must be positive")
+    message = _assert_rejected(project, GOOD, "box size must be in (0, 10]")
     assert "units/servo/link.urdf" in message
 
 
 def test_zero_light_distance(project):
-    _assert_rejected(project, GOOD.replace("distance_m: 3", "distance_m: 0"), "must be positive")
+    _assert_rejected(
+        project, GOOD.replace("distance_m: 3", "distance_m: 0"), "must be in (0, 10000]"
+    )
 
 
 def test_mesh_path_escaping_the_project(project):

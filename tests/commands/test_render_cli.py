@@ -39,11 +39,11 @@ def test_mp4_has_the_requested_frames_and_shows_the_robot(tmp_path):
     assert frames.std() > 10  # not a blank picture
 
 
-def test_gif_on_request(tmp_path):
+def test_gif_on_request_of_a_shipped_formation_by_name(tmp_path):
     out = tmp_path / "wave.gif"
     result = run_cli(
         "render",
-        SNAKE,
+        "snake5",
         "--postures",
         _postures(tmp_path),
         "-o",
@@ -68,6 +68,7 @@ def test_bad_input_is_one_line_and_leaves_no_file(tmp_path):
         (["render", SNAKE, "-o", tmp_path / "x.mp4"], "needs --postures"),
         (["render", tmp_path / "no-run", "-o", tmp_path / "x.mp4"], "needs --postures"),
         (["render", SNAKE, "--postures", SNAKE, "-o", tmp_path / "x.mp4"], "cannot read"),
+        (["render", "snak5", "--postures", postures, "-o", tmp_path / "x.mp4"], "shipped: "),
         (
             ["render", SNAKE, "--postures", postures, "-o", tmp_path / "x.mp4", "--fps", "0"],
             "fps must be",

@@ -1,0 +1,1 @@
+"""Shipped formations, one YAML file each; installed as ``qdsega.assemblies`` (data only)."""

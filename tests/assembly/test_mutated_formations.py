@@ -1,0 +1,118 @@
+"""Mutants of every shipped formation: each either assembles and loads in PyBullet, or
+``qdsega assemble`` refuses it (status 2, one line on stderr, no file); each within 5 s.
+
+A mutant changes one thing: a scalar becomes negative, huge (a float, then an integer of 400
+digits), NaN or nonsense text; a mapping loses one key or gains an unknown one; a list loses
+one item. The CLI runs in-process so that the corpus takes seconds, not minutes.
+"""
+
+import copy
+import math
+import time
+from collections.abc import Iterator
+from typing import Any
+
+import numpy as np
+import pytest
+import yaml
+from helpers import SHIPPED_FORMATIONS
+
+from qdsega.assembly import assemble
+from qdsega.cli import main
+from qdsega.description import load_formation
+from qdsega.simulation.bullet import BulletSimulation
+
+KeyPath = tuple[str | int, ...]
+SCALAR_MUTATIONS = {
+    "negative": lambda v: -v if isinstance(v, int | float) and v != 0 else -1,
+    "huge": lambda v: 1.0e300,
+    "huge-integer": lambda v: 10**400,
+    "nan": lambda v: math.nan,
+    "nonsense": lambda v: "zzz nonsense",
+}
+SECONDS_PER_MUTANT = 5.0
+
+
+def _nodes(data: Any, path: KeyPath = ()) -> Iterator[tuple[KeyPath, Any]]:
+    """Every node of plain YAML data with its path, parents first."""
+    yield path, data
+    if isinstance(data, dict | list):
+        for key, value in data.items() if isinstance(data, dict) else enumerate(data):
+            yield from _nodes(value, (*path, key))
+
+
+def _mutated(data: Any, path: KeyPath, change: Any) -> Any:
+    """A deep copy of ``data`` with ``change(node)`` applied to the node at ``path``."""
+    mutant = copy.deepcopy(data)
+    parent = mutant
+    for key in path[:-1]:
+        parent = parent[key]
+    if not path:
+        return change(mutant)
+    parent[path[-1]] = change(parent[path[-1]])
+    return mutant
+
+
+def _without(container: dict | list, key: str | int) -> dict | list:
+    container = copy.copy(container)
+    del container[key]
+    return container
+
+
+def mutants(data: Any) -> Iterator[tuple[str, Any]]:
+    """(label, mutant) pairs: every single-point mutation of ``data``."""
+    for path, node in _nodes(data):
+        where = ".".join(map(str, path)) or "(top)"
+        if isinstance(node, dict):
+            for key in node:
+                yield f"{where}: -{key}", _mutated(data, path, lambda n, k=key: _without(n, k))
+            yield f"{where}: +unknown", _mutated(data, path, lambda n: {**n, "colour": "red"})
+        elif isinstance(node, list):
+            for index in range(len(node)):
+                yield (
+                    f"{where}: -[{index}]",
+                    _mutated(data, path, lambda n, i=index: _without(n, i)),
+                )
+        else:
+            for label, change in SCALAR_MUTATIONS.items():
+                yield f"{where}={label}", _mutated(data, path, change)
+
+
+def _check_mutant(data: Any, folder: Any, capfd: pytest.CaptureFixture[str]) -> str:
+    """``assembled`` or ``refused``; AssertionError if the mutant misbehaves."""
+    file = folder / "mutant.yaml"
+    file.write_text(yaml.safe_dump(data, sort_keys=False), encoding="utf-8")
+    out = folder / "out" / "mutant.urdf"
+    start = time.perf_counter()
+    code = main(["assemble", str(file), "-o", str(out)])
+    err = capfd.readouterr().err
+    if code == 0:
+        assert out.is_file(), "status 0 but no URDF"
+        out.unlink()
+        formation = load_formation(file)
+        with BulletSimulation(robot=assemble(formation)) as sim:
+            sim.reset(formation.posture_rad(formation.rest_levels()))
+            sim.step(24)
+            assert np.all(np.isfinite(sim.unit_states()[0])), "NaN in PyBullet"
+    else:
+        assert code == 2, f"status {code}: {err}"
+        assert len(err.splitlines()) == 1 and err.startswith("qdsega assemble: error: "), err
+        assert not out.parent.exists() or not any(out.parent.iterdir()), "left files"
+    elapsed = time.perf_counter() - start
+    assert elapsed < SECONDS_PER_MUTANT, f"took {elapsed:.1f} s"
+    return "assembled" if code == 0 else "refused"
+
+
+@pytest.mark.parametrize("file", SHIPPED_FORMATIONS, ids=lambda f: f.stem)
+def test_every_mutant_assembles_and_loads_or_is_refused_in_one_line(file, tmp_path, capfd):
+    data = yaml.safe_load(file.read_text(encoding="utf-8"))
+    outcomes = {"assembled": 0, "refused": 0}
+    failures = []
+    for label, mutant in mutants(data):
+        try:
+            outcomes[_check_mutant(mutant, tmp_path, capfd)] += 1
+        except AssertionError as exc:
+            failures.append(f"{label}: {exc}")
+    assert not failures, "\n".join(failures)
+    print(f"{file.stem}: {sum(outcomes.values())} mutants, {outcomes}")
+    assert outcomes["assembled"] >= 5 and outcomes["refused"] >= 100

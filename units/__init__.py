@@ -1,0 +1,1 @@
+"""Shipped unit types, one folder each; installed as ``qdsega.units`` (data only)."""
