@@ -2,10 +2,17 @@
 
 A table measures each transition ``i -> j`` once, from a settled start in ``i``. A body whose
 step depends on more than its posture (a snake's momentum, the friction it has built up)
-moves differently inside a trial. :class:`GroundedTransitions` keeps, for every transition an
-exact trial went through, the moves observed there, and answers with their mean instead of the
-table's measurement (Dyna-style: the learner plans on a model, and the model is corrected where
-the learner's policies actually go). A transition observed to fail more often than not fails.
+moves differently inside a trial: there the move ``i -> j`` depends mostly on the posture
+``h`` the body came from. :class:`GroundedTransitions` keeps every move that exact trials
+went through, and answers Dyna-style (the learner plans on a model that is corrected where its
+policies actually go), the most specific knowledge first:
+
+1. the mean of the moves observed for ``i -> j`` entered from ``h`` (a context row of the
+   table, :class:`qdsega.agent.world.Transitions`);
+2. else the mean of the moves observed for ``i -> j`` in any context;
+3. else the base table's measurement.
+
+A transition observed to fail more often than not fails.
 """
 
 from __future__ import annotations
@@ -15,6 +22,8 @@ import numpy as np
 from qdsega.agent.policy import Rollout
 from qdsega.agent.world import TransitionProvider, Transitions
 from qdsega.task import relative_move
+
+_SUMS = 5  # summed dx (m), dy (m), dtheta (rad); moves; failures
 
 
 class GroundedTransitions:
@@ -26,8 +35,8 @@ class GroundedTransitions:
 
     def __init__(self, *, base: TransitionProvider) -> None:
         self.base = base
-        # key (from + to levels as bytes) -> [sum dx, sum dy, sum dtheta, moves, failures]
-        self._observed: dict[bytes, np.ndarray] = {}
+        self._plain: dict[bytes, np.ndarray] = {}  # i + j -> sums
+        self._context: dict[bytes, dict[bytes, np.ndarray]] = {}  # h + i -> {j -> sums}
 
     @property
     def n_joints(self) -> int:
@@ -37,51 +46,80 @@ class GroundedTransitions:
         return self.base.start_posture()
 
     def __len__(self) -> int:
-        """Transitions observed at least once."""
-        return len(self._observed)
+        """Transitions observed at least once (in any context)."""
+        return len(self._plain)
 
     def transitions(self, from_postures: np.ndarray, to_postures: np.ndarray) -> Transitions:
-        """The base table's outcomes, observed means where a transition was observed."""
-        table = self.base.transitions(from_postures, to_postures)
-        if not self._observed:
-            return table
-        dx, dy, dtheta = (np.array(a, dtype=np.float64) for a in (table.dx, table.dy, table.dtheta))
-        failed = np.array(table.failed, dtype=np.bool_)
+        """The base table's outcomes, corrected by what was observed (module docstring)."""
         sources = np.asarray(from_postures, dtype=np.int64)
         targets = np.asarray(to_postures, dtype=np.int64)
-        for i, source in enumerate(sources):
-            for j, target in enumerate(targets):
-                row = self._observed.get(_key(source, target))
-                if row is None:
+        base = self.base.transitions(sources, targets)
+        if not self._plain:
+            return base
+        keys = [t.tobytes() for t in targets]
+        plain = _corrected(base, [{k: self._plain.get(s.tobytes() + k) for k in keys}
+                                  for s in sources])  # fmt: skip
+        context = np.full((len(sources), len(sources)), -1, dtype=np.int64)
+        rows: list[dict[bytes, np.ndarray | None]] = []
+        base_rows: list[int] = []
+        for h, previous in enumerate(sources):
+            for i, source in enumerate(sources):
+                seen = self._context.get(previous.tobytes() + source.tobytes())
+                if seen is None or not any(k in seen for k in keys):
                     continue
-                moves, failures = row[3], row[4]
-                failed[i, j] = failures > moves
-                if moves > 0:
-                    dx[i, j], dy[i, j], dtheta[i, j] = row[:3] / moves
-        return Transitions(dx=dx, dy=dy, dtheta=dtheta, failed=failed)
+                context[h, i] = len(rows)
+                rows.append({k: seen.get(k) for k in keys})
+                base_rows.append(i)
+        if not rows:
+            return plain
+        in_context = _corrected(
+            Transitions(
+                dx=plain.dx[base_rows],
+                dy=plain.dy[base_rows],
+                dtheta=plain.dtheta[base_rows],
+                failed=plain.failed[base_rows],
+            ),
+            rows,
+        )
+        return Transitions(
+            dx=plain.dx,
+            dy=plain.dy,
+            dtheta=plain.dtheta,
+            failed=plain.failed,
+            context=context,
+            in_context=in_context,
+        )
 
     def observe(self, trial: Rollout, start: np.ndarray) -> int:
         """Record the moves of an exact trial that started in posture ``start`` (J,); returns
-        the transitions it went through."""
+        the commands it observed."""
         reached = trial.reached_postures(start)
-        steps = len(reached) - 1
-        for t in range(steps):
-            move = relative_move(tuple(trial.poses[t]), tuple(trial.poses[t + 1]))
-            self._row(reached[t], reached[t + 1])[:4] += (*move, 1.0)
-        if trial.failed:
-            self._row(reached[-1], trial.postures[-1])[4] += 1.0
-            steps += 1
-        return steps
+        targets = list(reached[1:]) + ([trial.postures[-1]] if trial.failed else [])
+        for t, target in enumerate(targets):
+            if t < len(reached) - 1:
+                move = relative_move(tuple(trial.poses[t]), tuple(trial.poses[t + 1]))
+                outcome = np.array([*move, 1.0, 0.0])
+            else:  # the failed command
+                outcome = np.array([0.0, 0.0, 0.0, 0.0, 1.0])
+            source = reached[t].tobytes()
+            self._plain.setdefault(source + target.tobytes(), np.zeros(_SUMS))[:] += outcome
+            if t > 0:
+                seen = self._context.setdefault(reached[t - 1].tobytes() + source, {})
+                seen.setdefault(target.tobytes(), np.zeros(_SUMS))[:] += outcome
+        return len(targets)
 
     def state(self) -> dict[str, np.ndarray]:
-        """The observations as arrays (for a checkpoint): ``pairs`` (n, 2J) levels and
-        ``sums`` (n, 5): summed dx (m), dy (m), dtheta (rad), moves and failures."""
-        keys = sorted(self._observed)
-        pairs = np.array([np.frombuffer(k, dtype=np.int64) for k in keys], dtype=np.int64)
-        sums = np.array([self._observed[k] for k in keys], dtype=np.float64)
+        """The observations as arrays (for a checkpoint): ``plain_keys`` (n, 2J) levels of
+        ``i, j`` and ``plain_sums`` (n, 5); ``context_keys`` (c, 3J) levels of ``h, i, j`` and
+        ``context_sums`` (c, 5). Sums: dx (m), dy (m), dtheta (rad), moves, failures."""
+        triples = {
+            pair + target: sums
+            for pair, seen in self._context.items()
+            for target, sums in seen.items()
+        }
         return {
-            "pairs": pairs.reshape(len(keys), 2 * self.n_joints),
-            "sums": sums.reshape(len(keys), 5),
+            **_arrays("plain", self._plain, 2 * self.n_joints),
+            **_arrays("context", triples, 3 * self.n_joints),
         }
 
     def restore(self, state: dict[str, np.ndarray]) -> None:
@@ -90,19 +128,47 @@ class GroundedTransitions:
         Raises:
             ValueError: the arrays do not fit this body.
         """
-        pairs, sums = state["pairs"], state["sums"]
-        if pairs.shape[1:] != (2 * self.n_joints,) or sums.shape != (len(pairs), 5):
-            raise ValueError(
-                f"observations {pairs.shape}, {sums.shape} do not fit {self.n_joints} joints"
-            )
-        self._observed = {
-            pair.astype(np.int64).tobytes(): row.astype(np.float64).copy()
-            for pair, row in zip(pairs, sums, strict=True)
-        }
-
-    def _row(self, source: np.ndarray, target: np.ndarray) -> np.ndarray:
-        return self._observed.setdefault(_key(source, target), np.zeros(5))
+        j = self.n_joints
+        plain = _entries(state, "plain", 2 * j)
+        triples = _entries(state, "context", 3 * j)
+        self._plain = plain
+        self._context = {}
+        width = 2 * j * 8  # bytes of h + i
+        for key, sums in triples.items():
+            self._context.setdefault(key[:width], {})[key[width:]] = sums
 
 
-def _key(source: np.ndarray, target: np.ndarray) -> bytes:
-    return np.concatenate([source, target]).astype(np.int64).tobytes()
+def _corrected(table: Transitions, rows: list[dict[bytes, np.ndarray | None]]) -> Transitions:
+    """``table`` (n, m) with each observed entry (``rows[i][key of target j]``) replaced by
+    the observed mean; ``rows`` lists the targets' keys in column order."""
+    dx, dy, dtheta = (np.array(a, dtype=np.float64) for a in (table.dx, table.dy, table.dtheta))
+    failed = np.array(table.failed, dtype=np.bool_)
+    for i, row in enumerate(rows):
+        for j, sums in enumerate(row.values()):
+            if sums is None:
+                continue
+            moves, failures = sums[3], sums[4]
+            failed[i, j] = failures > moves
+            if moves > 0:
+                dx[i, j], dy[i, j], dtheta[i, j] = sums[:3] / moves
+    return Transitions(dx=dx, dy=dy, dtheta=dtheta, failed=failed)
+
+
+def _arrays(name: str, entries: dict[bytes, np.ndarray], width: int) -> dict[str, np.ndarray]:
+    keys = sorted(entries)
+    levels = np.array([np.frombuffer(k, dtype=np.int64) for k in keys], dtype=np.int64)
+    sums = np.array([entries[k] for k in keys], dtype=np.float64)
+    return {
+        f"{name}_keys": levels.reshape(len(keys), width),
+        f"{name}_sums": sums.reshape(len(keys), _SUMS),
+    }
+
+
+def _entries(state: dict[str, np.ndarray], name: str, width: int) -> dict[bytes, np.ndarray]:
+    keys, sums = state[f"{name}_keys"], state[f"{name}_sums"]
+    if keys.shape[1:] != (width,) or sums.shape != (len(keys), _SUMS):
+        raise ValueError(f"observations {keys.shape}, {sums.shape} do not fit this body")
+    return {
+        k.astype(np.int64).tobytes(): s.astype(np.float64).copy()
+        for k, s in zip(keys, sums, strict=True)
+    }

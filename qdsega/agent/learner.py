@@ -234,24 +234,18 @@ class QDSEGA:
         fell: np.ndarray,
     ) -> int:
         """Compiled learning on the world's transition table; returns the steps taken."""
-        dx, dy, dtheta = (
-            np.ascontiguousarray(a, dtype=np.float64) for a in (table.dx, table.dy, table.dtheta)
-        )
-        task = self.task
+        task, learning = self.task, self.config.learning
         return int(
             learn_on_table(
                 q,
-                dx,
-                dy,
-                dtheta,
-                np.ascontiguousarray(table.failed, dtype=np.bool_),
+                *table.compiled(),
                 space.next_interior,
                 task.light,
                 task.edges,
-                self.config.learning.trials,
+                learning.trials,
                 task.trial_steps,
-                self.config.learning.alpha,
-                self.config.learning.gamma,
+                learning.alpha,
+                learning.gamma,
                 self._schedule(),
                 task.config.reward_per_m,
                 task.penalty,

@@ -8,8 +8,9 @@ and runs ``trial_steps`` commands or until the lower agent fails. Each step:
    restarting at 0 each generation (the schedule then explores afresh over a new table);
 2. if the move fails: ``Q(s, a) <- (1 - alpha) Q(s, a) + alpha * penalty`` and the trial ends
    (a fall has no next state);
-3. else move the robot by the table's body-frame displacement, reward eq. (17), and update
-   eq. (1) with ``max Q(s', .)``; the step that ends a trial by its length bootstraps like any
+3. else move the robot by the table's body-frame displacement (the row for the posture the
+   robot came from where the table has one), reward eq. (17), and update eq. (1) with
+   ``max Q(s', .)``; the step that ends a trial by its length bootstraps like any
    other (a time limit is not a terminal state).
 
 The rules (reward, exterior state, pose integration) are :mod:`qdsega.task`'s compiled kernels.
@@ -57,6 +58,11 @@ def learn_on_table(
     dy: np.ndarray,
     dtheta: np.ndarray,
     failed: np.ndarray,
+    context: np.ndarray,
+    context_dx: np.ndarray,
+    context_dy: np.ndarray,
+    context_dtheta: np.ndarray,
+    context_failed: np.ndarray,
     next_interior: np.ndarray,
     light: np.ndarray,
     edges: np.ndarray,
@@ -77,6 +83,10 @@ def learn_on_table(
     Args:
         q: Q-table, shape (n_interior * n_exterior, A), updated in place.
         dx, dy, dtheta, failed: the transition table, shape (n_interior, A) (m, m, rad, bool).
+        context: ``context[h, i]``: the row of the ``context_*`` arrays for moves from interior
+            state ``i`` entered from ``h``, or -1 for row ``i`` of the plain table, shape
+            (n_interior, n_interior) (:class:`qdsega.agent.world.Transitions`).
+        context_dx, context_dy, context_dtheta, context_failed: those rows, shape (R, A).
         next_interior: interior state each action leads to, shape (A,).
         light: light position (x, y) (m).
         edges: exterior bin edges (rad), shape (n_exterior,).
@@ -107,7 +117,7 @@ def learn_on_table(
         )
         x, y, theta = 0.0, 0.0, 0.0
         d = d_start
-        interior = 0
+        previous, interior = -1, 0
         exterior = exterior_state(x, y, theta, light_x, light_y, edges)
         fell[trial] = False
         for _ in range(trial_steps):
@@ -116,16 +126,22 @@ def learn_on_table(
             uses[a] += 1
             steps += 1
             old = q[s, a]
-            if failed[interior, a]:
+            r = context[previous, interior] if previous >= 0 else -1
+            if failed[interior, a] if r < 0 else context_failed[r, a]:
                 q[s, a] = (1.0 - alpha) * old + alpha * penalty
                 _update_top(q, s, old, q[s, a], row_top)
                 fell[trial] = True
                 break
-            x, y, theta = move_pose(
-                x, y, theta, dx[interior, a], dy[interior, a], dtheta[interior, a]
-            )
+            if r < 0:
+                x, y, theta = move_pose(
+                    x, y, theta, dx[interior, a], dy[interior, a], dtheta[interior, a]
+                )
+            else:
+                x, y, theta = move_pose(
+                    x, y, theta, context_dx[r, a], context_dy[r, a], context_dtheta[r, a]
+                )
             d_new = math.hypot(light_x - x, light_y - y)
-            interior = next_interior[a]
+            previous, interior = interior, next_interior[a]
             exterior = exterior_state(x, y, theta, light_x, light_y, edges)
             best_next = row_top[interior * n_exterior + exterior]
             q[s, a] = q_update(old, step_reward(d, d_new, reward_per_m), best_next, alpha, gamma)

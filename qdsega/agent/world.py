@@ -5,8 +5,10 @@ fails. Two kinds of world:
 
 * A **transition table** (:class:`TransitionProvider`): the outcome of commanding posture ``j``
   from posture ``i`` does not depend on where the robot is, so it is a table of body-frame
-  moves ``(dx, dy, dtheta, failed)``. The Minimal Simulation Model is one (analytic), a
-  simulator measured once per transition is another. The compiled learning loop runs on it.
+  moves ``(dx, dy, dtheta, failed)``, optionally refined by the posture ``h`` the robot came
+  from (a moving body carries its last move into the next). The Minimal Simulation Model is
+  one (analytic), a simulator measured once per transition is another. The compiled learning
+  loop runs on it.
 * A **step-by-step world** (:class:`World`): anything else; the plain Python loop runs on it.
 """
 
@@ -27,12 +29,19 @@ class Transitions:
         dy: leftward displacement in that frame, shape (n, m) (m).
         dtheta: heading change, counter-clockwise, shape (n, m) (rad).
         failed: the lower agent could not reach the posture (the robot fell), shape (n, m).
+        context: where the outcome also depends on the posture the robot just came from:
+            ``context[h, i]`` is the row of ``in_context`` that holds the outcomes of the moves
+            from ``from`` posture ``i`` reached from ``from`` posture ``h``, or -1 where the
+            plain row ``i`` holds; shape (n, n), or None for none.
+        in_context: those rows, shape (R, m) (a table of its own, without context).
     """
 
     dx: np.ndarray
     dy: np.ndarray
     dtheta: np.ndarray
     failed: np.ndarray
+    context: np.ndarray | None = None
+    in_context: Transitions | None = None
 
     def __post_init__(self) -> None:
         shape = np.shape(self.dx)
@@ -41,6 +50,40 @@ class Transitions:
         for name in ("dy", "dtheta", "failed"):
             if np.shape(getattr(self, name)) != shape:
                 raise ValueError(f"{name} has shape {np.shape(getattr(self, name))}, not {shape}")
+        if (self.context is None) != (self.in_context is None):
+            raise ValueError("context and in_context come together")
+        if self.context is not None and self.in_context is not None:
+            rows = len(self.in_context.dx)
+            if np.shape(self.context) != (shape[0], shape[0]):
+                raise ValueError(f"context has shape {np.shape(self.context)}, not {shape[0]}^2")
+            if np.shape(self.in_context.dx)[1:] != shape[1:] or self.in_context.context is not None:
+                raise ValueError("in_context must be plain rows of the same targets")
+            if np.any(self.context >= rows) or np.any(self.context < -1):
+                raise ValueError(f"context rows must be -1 .. {rows - 1}")
+
+    def row(self, h: int, i: int) -> tuple[Transitions, int]:
+        """The table and row that hold the moves from ``i`` reached from ``h`` (-1: the trial
+        has just started)."""
+        if h >= 0 and self.context is not None and self.in_context is not None:
+            r = int(self.context[h, i])
+            if r >= 0:
+                return self.in_context, r
+        return self, i
+
+    def compiled(self) -> tuple[np.ndarray, ...]:
+        """The arrays the compiled loop takes: dx, dy, dtheta, failed (n, m); context (n, n)
+        (all -1 without context); and the in-context rows' dx, dy, dtheta, failed (R, m)."""
+        n, m = np.shape(self.dx)
+        plain = tuple(
+            np.ascontiguousarray(a, dtype=np.float64) for a in (self.dx, self.dy, self.dtheta)
+        )
+        failed = np.ascontiguousarray(self.failed, dtype=np.bool_)
+        if self.context is None or self.in_context is None:
+            empty = np.zeros((0, m))
+            return (*plain, failed, np.full((n, n), -1, dtype=np.int64), empty, empty, empty,
+                    np.zeros((0, m), dtype=np.bool_))  # fmt: skip
+        inner = self.in_context.compiled()
+        return (*plain, failed, np.ascontiguousarray(self.context, dtype=np.int64), *inner[:4])
 
 
 class TransitionProvider(Protocol):

@@ -9,6 +9,7 @@ import pytest
 
 from qdsega.agent.boltzmann import boltzmann_select, greedy, temperature
 from qdsega.agent.qlearning import learn_on_table, q_update
+from qdsega.agent.world import Transitions
 from qdsega.task import exterior_state
 
 EDGES = np.radians([-45.0, -15.0, 15.0, 45.0])
@@ -50,7 +51,8 @@ def test_compiled_loop_learns_a_two_action_chain():
     uses = np.zeros(2, dtype=np.int64)
     distances, fell = np.zeros(300), np.zeros(300, dtype=np.bool_)
     steps = learn_on_table(
-        q, dx, zeros, zeros, failed, np.array([1, 0]), np.array([100.0, 0.0]),
+        q, *Transitions(dx=dx, dy=zeros, dtheta=zeros, failed=failed).compiled(),
+        np.array([1, 0]), np.array([100.0, 0.0]),
         EDGES, 300, 3, 0.5, 0.9,
         np.array([150.0, 0.002, 1.0]), 100.0, -100.0, np.random.default_rng(1),
         uses, distances, fell,
@@ -104,8 +106,8 @@ def test_compiled_loop_equals_a_plain_reference():
     uses = np.zeros(n_actions, dtype=np.int64)
     distances, fell = np.zeros(400), np.zeros(400, dtype=np.bool_)
     learn_on_table(
-        q, dx, np.zeros_like(dx), dtheta, failed, next_interior, light, edges, 400, 8, 0.5,
-        0.9, np.array([150.0, 0.002, 1.0]), 100.0, -100.0, np.random.default_rng(3), uses,
+        q, *Transitions(dx=dx, dy=np.zeros_like(dx), dtheta=dtheta, failed=failed).compiled(),
+        next_interior, light, edges, 400, 8, 0.5, 0.9, np.array([150.0, 0.002, 1.0]), 100.0, -100.0, np.random.default_rng(3), uses,
         distances, fell,
     )  # fmt: skip
     assert fell.any() and not fell.all()

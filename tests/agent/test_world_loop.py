@@ -32,8 +32,7 @@ def _learn(world, q, space, task, trials, schedule, alpha, gamma, rng):
     distances, fell = np.zeros(trials), np.zeros(trials, dtype=np.bool_)
     if isinstance(world, Transitions):
         steps = learn_on_table(
-            q, world.dx, world.dy, world.dtheta, world.failed, space.next_interior, task.light,
-            task.edges, trials, task.trial_steps, alpha, gamma, schedule,
+            q, *world.compiled(), space.next_interior, task.light, task.edges, trials, task.trial_steps, alpha, gamma, schedule,
             task.config.reward_per_m, task.penalty, rng, uses, distances, fell,
         )  # fmt: skip
     else:
@@ -107,7 +106,31 @@ def test_compiled_loop_python_loop_and_env_give_the_same_rewards():
     env.close()
 
 
-def test_python_world_loop_matches_the_compiled_table_loop():
+def _with_context(table: Transitions, gen: np.random.Generator) -> Transitions:
+    """``table`` with random in-context rows for a third of the (h, i) pairs."""
+    n, m = table.dx.shape
+    context = np.full((n, n), -1, dtype=np.int64)
+    chosen = np.flatnonzero(gen.random(n * n) < 1 / 3)
+    context.flat[chosen] = np.arange(len(chosen))
+    rows = len(chosen)
+    in_context = Transitions(
+        dx=gen.uniform(-0.05, 0.1, (rows, m)),
+        dy=gen.uniform(-0.02, 0.02, (rows, m)),
+        dtheta=gen.uniform(-0.2, 0.2, (rows, m)),
+        failed=gen.random((rows, m)) < 0.1,
+    )
+    return Transitions(
+        dx=table.dx,
+        dy=table.dy,
+        dtheta=table.dtheta,
+        failed=table.failed,
+        context=context,
+        in_context=in_context,
+    )
+
+
+@pytest.mark.parametrize("context", [False, True])
+def test_python_world_loop_matches_the_compiled_table_loop(context):
     formation = load_formation(ASSEMBLIES_DIR / "quadruped.yaml")
     model = MinimalSimulationModel(legs=LegLayout.from_formation(formation), params=MSMParameters())
     preset = PRESETS["paper-legged"]
@@ -115,6 +138,8 @@ def test_python_world_loop_matches_the_compiled_table_loop():
     population = random_population(np.full(8, 2), 12, np.random.default_rng(1))
     space = ExplorationSpace.from_population(population, model.start_posture())
     table = model.transitions(space.postures, space.actions)
+    if context:
+        table = _with_context(table, np.random.default_rng(2))
     schedule = np.array(
         [learning.temperature_scale, learning.temperature_rate, learning.temperature_offset]
     )

@@ -1,0 +1,82 @@
+"""A grounded table answers with observed moves: in context first, then in any context, then the
+base table; it fails what failed more often than not; its state round-trips."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from qdsega.agent.grounding import GroundedTransitions
+from qdsega.agent.policy import Rollout
+from qdsega.agent.world import Transitions
+
+P = np.array([[0], [1], [2]])  # three postures of a one-joint body
+
+
+class _Base:
+    """Every move 1 cm forward."""
+
+    n_joints = 1
+
+    def start_posture(self) -> np.ndarray:
+        return P[0]
+
+    def transitions(self, from_postures, to_postures) -> Transitions:
+        shape = (len(from_postures), len(to_postures))
+        zeros = np.zeros(shape)
+        return Transitions(dx=np.full(shape, 0.01), dy=zeros, dtheta=zeros, failed=zeros > 0)
+
+
+def _trial(postures: list[int], xs: list[float], failed: bool = False) -> Rollout:
+    poses = np.zeros((len(xs), 3))
+    poses[:, 0] = xs
+    return Rollout(
+        actions=np.arange(len(postures)),
+        postures=np.array(postures)[:, None],
+        poses=poses,
+        failed=failed,
+        distance_m=xs[-1],
+    )
+
+
+def test_observed_moves_override_the_base_most_specific_first():
+    table = GroundedTransitions(base=_Base())
+    # 0 -> 1 (+0.10), 1 -> 2 (+0.20, entered from 0), 2 -> 1 (+0.30), 1 -> 2 (+0.40, from 2)
+    assert table.observe(_trial([1, 2, 1, 2], [0.0, 0.1, 0.3, 0.6, 1.0]), P[0]) == 4
+    t = table.transitions(P, P)
+    assert t.dx[0, 1] == pytest.approx(0.1)
+    assert t.dx[1, 2] == pytest.approx(0.3)  # mean over both contexts
+    assert t.dx[0, 2] == pytest.approx(0.01)  # never observed: the base
+    in_context, row = t.row(0, 1)  # 1 entered from 0
+    assert in_context is t.in_context and in_context.dx[row, 2] == pytest.approx(0.2)
+    in_context, row = t.row(2, 1)
+    assert in_context.dx[row, 2] == pytest.approx(0.4)
+    in_context, row = t.row(0, 1)
+    assert in_context.dx[row, 0] == pytest.approx(0.01)  # the plain row where unobserved
+    plain, row = t.row(1, 0)  # no observation after 1 -> 0
+    assert plain is t and row == 0
+
+
+def test_a_move_observed_to_fail_more_often_than_not_fails():
+    table = GroundedTransitions(base=_Base())
+    table.observe(_trial([1, 2], [0.0, 0.1, 0.1], failed=True), P[0])
+    assert table.transitions(P, P).failed[1, 2]
+    table.observe(_trial([1, 2], [0.0, 0.1, 0.2]), P[0])
+    table.observe(_trial([1, 2], [0.0, 0.1, 0.2]), P[0])
+    t = table.transitions(P, P)
+    assert not t.failed[1, 2] and t.dx[1, 2] == pytest.approx(0.1)
+
+
+def test_state_round_trips_and_refuses_another_body():
+    table = GroundedTransitions(base=_Base())
+    table.observe(_trial([1, 2, 1], [0.0, 0.1, 0.3, 0.2]), P[0])
+    copy = GroundedTransitions(base=_Base())
+    copy.restore(table.state())
+    for a, b in zip(
+        copy.transitions(P, P).compiled(), table.transitions(P, P).compiled(), strict=True
+    ):
+        assert np.array_equal(a, b)
+    state = table.state()
+    state["plain_keys"] = np.zeros((1, 4), dtype=np.int64)
+    with pytest.raises(ValueError, match="do not fit"):
+        copy.restore(state)
