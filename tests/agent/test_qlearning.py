@@ -107,8 +107,8 @@ def test_compiled_loop_equals_a_plain_reference():
     distances, fell = np.zeros(400), np.zeros(400, dtype=np.bool_)
     learn_on_table(
         q, *Transitions(dx=dx, dy=np.zeros_like(dx), dtheta=dtheta, failed=failed).compiled(),
-        next_interior, light, edges, 400, 8, 0.5, 0.9, np.array([150.0, 0.002, 1.0]), 100.0, -100.0, np.random.default_rng(3), uses,
-        distances, fell,
+        next_interior, light, edges, 400, 8, 0.5, 0.9, np.array([150.0, 0.002, 1.0]), 100.0,
+        -100.0, np.random.default_rng(3), uses, distances, fell,
     )  # fmt: skip
     assert fell.any() and not fell.all()
     # Compiled and interpreted arithmetic may differ in the last bit; a different draw would
