@@ -33,7 +33,8 @@ def _learn(world, q, space, task, trials, schedule, alpha, gamma, rng):
     if isinstance(world, Transitions):
         steps = learn_on_table(
             q, *world.compiled(), space.next_interior, task.light, task.edges, trials,
-            task.trial_steps, alpha, gamma, schedule, task.config.reward_per_m, task.penalty, rng, uses, distances, fell,
+            task.trial_steps, alpha, gamma, schedule, task.config.reward_per_m, task.penalty,
+            rng, uses, distances, fell,
         )  # fmt: skip
     else:
         steps = learn_on_world(
