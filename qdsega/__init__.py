@@ -3,7 +3,15 @@
 from importlib.resources import files
 from pathlib import Path
 
+import gymnasium
+
 __version__ = "0.1.0"
+
+ENV_ID = "qdsega/Locomotion-v0"
+"""The Gymnasium id of :class:`qdsega.locomotion.env.LocomotionEnv`, registered on import (the
+entry point is a string: PyBullet loads only when an env is made)."""
+
+gymnasium.register(id=ENV_ID, entry_point="qdsega.locomotion.env:LocomotionEnv")
 
 
 def _data_folder(package: str) -> Path:

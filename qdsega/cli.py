@@ -4,11 +4,16 @@ from __future__ import annotations
 
 import argparse
 import sys
-from collections.abc import Sequence
+import warnings
+from collections.abc import Callable, Sequence
+from typing import TextIO
 
 from qdsega import __version__
 from qdsega.commands import assemble, evaluate, plot, render, report, train
-from qdsega.errors import FormationError
+from qdsega.errors import FormationError, QdsegaWarning
+
+ShowWarning = Callable[[Warning | str, type[Warning], str, int, TextIO | None, str | None], None]
+"""The signature of ``warnings.showwarning``."""
 
 COMMANDS = (assemble, train, evaluate, plot, render, report)
 """Each module provides ``NAME``, ``HELP``, ``add_arguments(parser)`` and ``run(args) -> int``."""
@@ -26,16 +31,40 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    """Entry point. Bad input exits with status 2 and one line on stderr."""
+    """Entry point. Bad input exits with status 2 and one line on stderr; each
+    :class:`~qdsega.errors.QdsegaWarning` is one line on stderr too."""
     args = build_parser().parse_args(argv)
     try:
-        return args.handler(args)
+        with warnings.catch_warnings():
+            warnings.simplefilter("always", QdsegaWarning)
+            warnings.showwarning = _warning_printer(args.command, warnings.showwarning)
+            return args.handler(args)
     except FormationError as exc:
         print(f"qdsega {args.command}: error: {exc}", file=sys.stderr)
         return 2
     except KeyboardInterrupt:
         print(f"qdsega {args.command}: interrupted", file=sys.stderr)
         return 130
+
+
+def _warning_printer(command: str, others: ShowWarning) -> ShowWarning:
+    """A ``warnings.showwarning`` that prints a QdsegaWarning as ``qdsega COMMAND: warning:
+    ...`` and leaves any other warning to ``others``."""
+
+    def show(
+        message: Warning | str,
+        category: type[Warning],
+        filename: str,
+        lineno: int,
+        file: TextIO | None = None,
+        line: str | None = None,
+    ) -> None:
+        if issubclass(category, QdsegaWarning):
+            print(f"qdsega {command}: warning: {message}", file=sys.stderr)
+        else:
+            others(message, category, filename, lineno, file, line)
+
+    return show
 
 
 if __name__ == "__main__":

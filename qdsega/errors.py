@@ -38,3 +38,9 @@ class FormationError(ValueError):
             where += ": "
         key = f"{self.key_path}: " if self.key_path else ""
         return f"{where}{key}{self.message}"
+
+
+class QdsegaWarning(UserWarning):
+    """Something a user should know that does not stop the work (an edited formation, a
+    missing renderer); the command line prints it as one line
+    ``qdsega COMMAND: warning: ...``."""

@@ -21,9 +21,10 @@ import yaml
 
 from qdsega import ASSEMBLIES_DIR
 from qdsega.agent.learner import QDSEGA
+from qdsega.description import load_formation
 from qdsega.msm import LegLayout, MinimalSimulationModel, msm_optimum
 from qdsega.training.config import resolve_config
-from qdsega.training.run import budget_overrides, prepare_formation
+from qdsega.training.run import budget_overrides
 
 
 def _nest(assignments: list[str]) -> dict[str, Any]:
@@ -47,7 +48,7 @@ def _merge(a: dict[str, Any], b: dict[str, Any]) -> dict[str, Any]:
 
 def run_seed(formation_file: Path, overrides: dict[str, Any], show_gait: bool) -> dict[str, Any]:
     config = resolve_config(overrides=overrides)
-    formation = prepare_formation(formation_file, config)
+    formation = config.with_light(load_formation(formation_file))
     layout = LegLayout.from_formation(formation)
     world = MinimalSimulationModel(legs=layout, params=config.msm)
     light = formation.light.position_m

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import argparse
-import sys
 from pathlib import Path
 
 from qdsega.errors import FormationError
@@ -59,10 +58,6 @@ def run(args: argparse.Namespace) -> int:
         formation = load_formation(resolve_formation(args.source))
         postures = read_postures(args.postures, len(formation.joints))
         film = render_postures(formation, postures, args.output, camera)
-    if not film.egl:
-        print(
-            "qdsega render: warning: EGL unavailable, rendered with TinyRenderer", file=sys.stderr
-        )
     stopped = f" (stopped early: {film.failure})" if film.failure else ""
     print(f"{len(film.frames)} frames at {film.fps} fps -> {args.output}{stopped}")
     return 0

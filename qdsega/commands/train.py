@@ -3,14 +3,13 @@
 from __future__ import annotations
 
 import argparse
-import shutil
 from functools import partial
 from pathlib import Path
 
 from qdsega.agent.config import PRESETS
 from qdsega.description import resolve_formation
 from qdsega.errors import FormationError
-from qdsega.training.config import SIMULATORS, resolve_config
+from qdsega.training.config import DEFAULT_PRESET, SIMULATORS, TrainingConfig, resolve_config
 from qdsega.training.progress import ProgressDisplay
 from qdsega.training.run import TrainingInterrupted, budget_overrides, resume, train
 
@@ -38,13 +37,22 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         choices=SIMULATORS,
         default=None,
         help="world: msm (Minimal Simulation Model, legged only), memo (PyBullet "
-        "transitions measured once each) or pybullet (every step simulated); default msm",
+        "transitions measured once each) or pybullet (every step simulated); default: the "
+        "--config file's, else msm",
     )
     parser.add_argument(
         "--workers", type=int, metavar="N", help="processes measuring memo transitions"
     )
-    parser.add_argument("--preset", help=f"one of {', '.join(PRESETS)}; default paper-legged")
-    parser.add_argument("--config", type=Path, metavar="FILE.yaml", help="overrides (YAML)")
+    parser.add_argument(
+        "--preset",
+        help=f"one of {', '.join(PRESETS)}; default: the --config file's, else {DEFAULT_PRESET}",
+    )
+    parser.add_argument(
+        "--config",
+        type=Path,
+        metavar="FILE.yaml",
+        help="settings over the preset's, keys as in a run's config.yaml; flags override it",
+    )
     parser.add_argument("--seed", type=int, help="random seed (default: the config's, 0)")
     parser.add_argument(
         "--out", type=Path, metavar="RUN", help="run folder (default runs/FORMATION-SIM-seedS)"
@@ -77,16 +85,11 @@ def run(args: argparse.Namespace) -> int:
         if args.formation is None:
             raise FormationError("give a FORMATION.yaml to train, or --resume RUN")
         args.formation = resolve_formation(args.formation)
-        preset = args.preset or "paper-legged"
-        config = resolve_config(preset=preset, file=args.config, overrides=_overrides(args))
+        config = run_config(args)
         out = args.out or RUNS_DIR / f"{args.formation.stem}-{config.sim}-seed{config.seed}"
-        if args.overwrite and out.is_dir():
-            if not (out / "config.yaml").is_file():
-                raise FormationError(
-                    "--overwrite deletes run folders only (no config.yaml)", file=out
-                )
-            shutil.rmtree(out)
-        start = partial(train, args.formation, config, out, progress=progress)
+        start = partial(
+            train, args.formation, config, out, overwrite=args.overwrite, progress=progress
+        )
     try:
         summary = start()
     except TrainingInterrupted as stop:
@@ -110,11 +113,15 @@ def run(args: argparse.Namespace) -> int:
     return 0
 
 
-def _overrides(args: argparse.Namespace) -> dict[str, object]:
+def run_config(args: argparse.Namespace) -> TrainingConfig:
+    """The configuration of a new run: the preset, then the ``--config`` file, then the flags
+    that were given.
+
+    Raises:
+        FormationError: unknown preset, bad configuration file or value.
+    """
     overrides = budget_overrides(generations=args.generations, trials=args.trials, seed=args.seed)
-    overrides["sim"] = args.sim or "msm"
-    if args.workers is not None:
-        overrides["workers"] = args.workers
-    if args.light_bearing_deg is not None:
-        overrides["light_bearing_deg"] = args.light_bearing_deg
-    return overrides
+    for key in ("sim", "workers", "light_bearing_deg"):
+        if getattr(args, key) is not None:
+            overrides[key] = getattr(args, key)
+    return resolve_config(preset=args.preset, file=args.config, overrides=overrides)

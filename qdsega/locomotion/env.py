@@ -13,21 +13,38 @@ Poses are in the trial's frame, as the task has them: the body's pose at the epi
 (:mod:`qdsega.locomotion.body_pose`) is the origin, heading +x, and the light stands at the
 formation's distance and bearing from it. Moves measured here therefore integrate to the same
 poses in a transition table.
+
+With ``render_mode="rgb_array"``, :meth:`LocomotionEnv.render` returns the picture of a camera
+that follows the body, looking toward the light (a yellow sphere on the horizon), rendered
+off-screen by pybullet's EGL plugin, or by its TinyRenderer (with a
+:class:`~qdsega.errors.QdsegaWarning`) where EGL does not load. Rendering changes nothing in
+the physics. ``on_physics_step`` lets a recorder film within a step
+(:func:`qdsega.rendering.recorder.record`).
+
+Registered with Gymnasium as ``qdsega/Locomotion-v0`` when :mod:`qdsega` is imported::
+
+    env = gymnasium.make("qdsega/Locomotion-v0", formation="snake5", render_mode="rgb_array")
 """
 
 from __future__ import annotations
 
+import math
+import warnings
+from collections.abc import Callable
+from pathlib import Path
 from typing import Any
 
 import gymnasium as gym
 import numpy as np
 
 from qdsega.assembly import assemble
-from qdsega.description import Formation
+from qdsega.description import Formation, load_formation, resolve_formation
+from qdsega.errors import QdsegaWarning
 from qdsega.locomotion.lower_agent import LowerAgent, LowerAgentConfig
+from qdsega.rendering.camera import LIGHT_RADIUS_FRACTION, CameraConfig
 from qdsega.simulation import PhysicsSettings
 from qdsega.simulation.bullet import BulletSimulation
-from qdsega.task import Pose, Task, TaskConfig, relative_move
+from qdsega.task import Pose, Task, TaskConfig, move_pose, relative_move
 
 SETTLE_S = 0.5
 """Time the start posture is left to settle on the ground before a snapshot is taken (s)."""
@@ -37,26 +54,38 @@ class LocomotionEnv(gym.Env[np.ndarray, np.ndarray]):
     """Walk toward the light: one formation, one PyBullet world.
 
     Args:
-        formation: the robot and where the light is.
+        formation: the robot and where the light is: a :class:`Formation`, a formation file,
+            or the name of a shipped one (``"snake5"``).
         task: trial length, reward, penalty and exterior bins.
         lower_agent: how postures are executed and when that fails.
         physics: engine settings.
         start_levels: start posture as level indices, shape (J,); default
             ``formation.rest_levels()``.
+        render_mode: None, or ``"rgb_array"`` for :meth:`render`.
+        camera: picture size and camera placement for :meth:`render` (its ``fps`` is the
+            recorder's); default :class:`CameraConfig`.
     """
 
-    metadata: dict[str, Any] = {"render_modes": []}  # noqa: RUF012 - Gymnasium's convention
+    metadata: dict[str, Any] = {"render_modes": ["rgb_array"]}  # noqa: RUF012 - Gymnasium's
 
     def __init__(
         self,
         *,
-        formation: Formation,
+        formation: Formation | Path | str,
         task: TaskConfig | None = None,
         lower_agent: LowerAgentConfig | None = None,
         physics: PhysicsSettings | None = None,
         start_levels: tuple[int, ...] | None = None,
+        render_mode: str | None = None,
+        camera: CameraConfig | None = None,
     ) -> None:
+        if not isinstance(formation, Formation):
+            formation = load_formation(resolve_formation(formation))
+        if render_mode not in (None, *self.metadata["render_modes"]):
+            raise ValueError(f"render_mode must be None or 'rgb_array', got {render_mode!r}")
         self.formation = formation
+        self.render_mode = render_mode
+        self.camera = camera or CameraConfig()
         self.task = Task(config=task or TaskConfig(), light_xy=formation.light.position_m)
         if not formation.joints:
             raise ValueError(f"{formation.name} has no actuated joint to command")
@@ -64,15 +93,27 @@ class LocomotionEnv(gym.Env[np.ndarray, np.ndarray]):
         counts = [len(j.levels_rad) for j in formation.joints]
         self.action_space = gym.spaces.MultiDiscrete(counts)
         self.observation_space = gym.spaces.MultiDiscrete([*counts, self.task.n_exterior])
-        self.sim = BulletSimulation(robot=assemble(formation), settings=physics)
+        rendering = render_mode is not None
+        self.sim = BulletSimulation(robot=assemble(formation), settings=physics, egl=rendering)
+        if rendering and not self.sim.egl_enabled:
+            warnings.warn("EGL unavailable, rendered with TinyRenderer", QdsegaWarning, 2)
         self.lower_agent = LowerAgent(sim=self.sim, config=lower_agent or LowerAgentConfig())
+        self.metadata = {**self.metadata, "render_fps": 1.0 / self.lower_agent.step_duration_s}
         self.sim.reset(formation.posture_rad(self.start_levels))
         self.sim.step(max(1, round(SETTLE_S / self.sim.settings.time_step_s)))
+        self._origin = self.lower_agent.pose().planar
+        light = formation.light
+        self._light_xy = move_pose(*self._origin, *light.position_m, 0.0)[:2]
+        """Where the light stands in the world (m)."""
+        if rendering:
+            radius = max(0.1, LIGHT_RADIUS_FRACTION * light.distance_m)
+            self.sim.add_light(self._light_xy, radius_m=radius)
         self._start_state = self.sim.save_state()
         self._posture = self.start_levels.copy()
-        self._origin = self.lower_agent.pose().planar
         self._pose: Pose = (0.0, 0.0, 0.0)
         self._steps = 0
+        self.on_physics_step: Callable[[], None] | None = None
+        """Called after every physics step of :meth:`step`, if set (to film within a step)."""
 
     def reset(
         self, *, seed: int | None = None, options: dict[str, Any] | None = None
@@ -90,7 +131,7 @@ class LocomotionEnv(gym.Env[np.ndarray, np.ndarray]):
         if not self.action_space.contains(levels):
             raise ValueError(f"action {action!r} is not in {self.action_space}")
         before = self._pose
-        outcome = self.lower_agent.execute(levels)
+        outcome = self.lower_agent.execute(levels, on_physics_step=self.on_physics_step)
         self._steps += 1
         self._posture = levels.copy()
         failed = outcome.failed
@@ -110,6 +151,24 @@ class LocomotionEnv(gym.Env[np.ndarray, np.ndarray]):
     def distance_covered(self) -> float:
         """Distance toward the light gained since the episode started (m)."""
         return self.task.covered((0.0, 0.0, 0.0), self._pose)
+
+    def render(self) -> np.ndarray | None:
+        """The camera's picture now, (height, width, 3) uint8, with ``render_mode`` set to
+        ``"rgb_array"``; None without a render mode."""
+        if self.render_mode is None:
+            return None
+        pose = self.lower_agent.pose()
+        light_x, light_y = self._light_xy
+        camera = self.camera
+        return self.sim.camera_image(
+            width=camera.width,
+            height=camera.height,
+            target_m=(pose.x_m, pose.y_m, 0.05),
+            view_yaw_rad=math.atan2(light_y - pose.y_m, light_x - pose.x_m),
+            distance_m=camera.distance_m,
+            pitch_rad=camera.pitch_rad,
+            fov_deg=camera.fov_deg,
+        )
 
     def close(self) -> None:
         self.sim.close()

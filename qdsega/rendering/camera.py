@@ -5,6 +5,10 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+LIGHT_RADIUS_FRACTION = 0.02
+"""The light's sphere has this fraction of its distance as radius (at least 0.1 m), so that it
+shows on the horizon."""
+
 
 @dataclass(frozen=True, kw_only=True)
 class CameraConfig:

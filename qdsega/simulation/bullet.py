@@ -9,6 +9,7 @@ from __future__ import annotations
 import importlib.util
 import math
 import tempfile
+import weakref
 from collections.abc import Sequence
 from pathlib import Path
 
@@ -25,6 +26,11 @@ with native_output_silenced(2):  # pybullet prints its build time to stderr on i
 
 _DROP_CLEARANCE_M = 0.002
 """Gap between the robot's lowest point and the ground when it is placed (m)."""
+
+_EGL_OPEN: weakref.WeakSet[BulletSimulation] = weakref.WeakSet()
+"""Simulations of this process that render with EGL and are not closed."""
+_EGL_PARKED: list[BulletClient] = []
+"""Clients of closed EGL simulations, disconnected when the last open one closes."""
 
 
 class BulletSimulation:
@@ -53,6 +59,8 @@ class BulletSimulation:
         urdf_file = Path(self._folder.name) / f"{self.formation.name}.urdf"
         write_assembly(robot, urdf_file)
         self.egl_enabled = egl and self._load_egl()
+        if self.egl_enabled:
+            _EGL_OPEN.add(self)
         self._configure_engine()
         self.plane_id = self.client.loadURDF(
             str(Path(pybullet_data.getDataPath()) / "plane.urdf"), useFixedBase=True
@@ -278,10 +286,22 @@ class BulletSimulation:
         return np.asarray(rgba, dtype=np.uint8).reshape(height, width, 4)[:, :, :3].copy()
 
     def close(self) -> None:
-        """Disconnect from the physics server and delete the temporary URDF."""
+        """Disconnect from the physics server and delete the temporary URDF.
+
+        pybullet's EGL plugin ends the process-wide EGL display when any client that loaded
+        it disconnects, and every other client still rendering then crashes (a segmentation
+        fault). So a simulation that renders with EGL is parked when it closes, and the parked
+        ones disconnect together when the last open one closes."""
         if self.client is not None:
-            with native_output_silenced(1):
-                self.client.disconnect()
+            if self.egl_enabled:
+                _EGL_OPEN.discard(self)
+                _EGL_PARKED.append(self.client)
+                if not _EGL_OPEN:
+                    for client in _EGL_PARKED:
+                        _disconnect(client)
+                    _EGL_PARKED.clear()
+            else:
+                _disconnect(self.client)
             self.client = None  # type: ignore[assignment]
         self._folder.cleanup()
 
@@ -290,3 +310,8 @@ class BulletSimulation:
 
     def __exit__(self, *exc: object) -> None:
         self.close()
+
+
+def _disconnect(client: BulletClient) -> None:
+    with native_output_silenced(1):
+        client.disconnect()

@@ -30,7 +30,6 @@ class Checkpoint:
     """A run between two generations.
 
     Attributes:
-        formation_file: the formation the run learns (absolute path).
         learner: the learner's state.
         metrics: one row per finished generation, columns of
             :data:`qdsega.training.run.METRIC_COLUMNS`, shape (G, columns).
@@ -44,7 +43,6 @@ class Checkpoint:
         elapsed_s: wall time spent so far (s), over all sessions of the run.
     """
 
-    formation_file: str
     learner: LearnerState
     metrics: np.ndarray
     poses: np.ndarray
@@ -76,7 +74,6 @@ def save_checkpoint(run: Path, checkpoint: Checkpoint) -> None:
             previous_q=q,
         )
     meta = {
-        "formation_file": checkpoint.formation_file,
         "completed": state.completed,
         "rng_state": state.rng_state,
         "env_steps": checkpoint.env_steps,
@@ -86,15 +83,16 @@ def save_checkpoint(run: Path, checkpoint: Checkpoint) -> None:
         np.savez(partial, meta=np.array(json.dumps(meta)), **arrays)
 
 
-def load_checkpoint(run: Path) -> Checkpoint:
-    """Read ``run``'s checkpoint.
+def load_checkpoint(run: Path) -> Checkpoint | None:
+    """Read ``run``'s checkpoint; None when it has none yet (the run stopped before its
+    first was written).
 
     Raises:
-        FormationError: no checkpoint, or one that does not parse.
+        FormationError: a checkpoint that does not parse.
     """
     file = run / CHECKPOINT_FILE
     if not file.is_file():
-        raise FormationError(f"nothing to resume (no {CHECKPOINT_FILE})", file=run)
+        return None
     try:
         with np.load(file) as data:
             meta = json.loads(str(data["meta"]))
@@ -108,7 +106,6 @@ def load_checkpoint(run: Path) -> Checkpoint:
                 )
                 previous = (space, data["previous_q"])
             return Checkpoint(
-                formation_file=str(meta["formation_file"]),
                 learner=LearnerState(
                     completed=int(meta["completed"]),
                     population=data["population"],

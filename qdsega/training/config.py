@@ -1,20 +1,27 @@
 """The resolved configuration of a training run: preset, then YAML file, then CLI flags.
 
-A YAML override file mirrors :class:`TrainingConfig`, for example::
+A YAML override file mirrors :class:`TrainingConfig` (a run folder's ``config.yaml`` is one),
+for example::
 
+    preset: paper-snake
+    sim: memo
     seed: 3
+    workers: 2
     agent:
       learning: {trials: 2000}
       fitness: {k_f: 10.0}
     task: {trial_steps: 20}
     msm: {c_theta: 0.1}
 
+``preset:`` picks the preset the other keys change (``--preset`` picks it over the file's);
+every other key overrides the preset's value, and flags override the file.
 Unknown keys and values of the wrong type are errors (:class:`qdsega.errors.FormationError`).
 """
 
 from __future__ import annotations
 
 import dataclasses
+import math
 import types
 import typing
 from dataclasses import dataclass, field, replace
@@ -24,6 +31,7 @@ from typing import Any
 import yaml
 
 from qdsega.agent.config import PRESETS, QDSEGAConfig
+from qdsega.description import Formation, Light
 from qdsega.errors import FormationError
 from qdsega.locomotion.lower_agent import LowerAgentConfig
 from qdsega.msm import MSMParameters
@@ -32,6 +40,8 @@ from qdsega.task import TaskConfig
 
 SIMULATORS = ("msm", "memo", "pybullet")
 """Worlds ``qdsega train`` can learn in (:mod:`qdsega.training.worlds`)."""
+DEFAULT_PRESET = "paper-legged"
+"""The preset when neither ``--preset`` nor the configuration file names one."""
 
 
 @dataclass(frozen=True)
@@ -56,7 +66,7 @@ class TrainingConfig:
             exact replay of its greedy policy went through (:mod:`qdsega.agent.grounding`).
     """
 
-    preset: str = "paper-legged"
+    preset: str = DEFAULT_PRESET
     seed: int = 0
     sim: str = "msm"
     light_bearing_deg: float | None = None
@@ -76,29 +86,47 @@ class TrainingConfig:
         """Plain types only (tuples become lists), for YAML."""
         return _plain(dataclasses.asdict(self))
 
+    def with_light(self, formation: Formation) -> Formation:
+        """``formation`` with its light moved to ``light_bearing_deg`` (at its distance), or
+        unchanged when that is None."""
+        if self.light_bearing_deg is None:
+            return formation
+        light = Light(formation.light.distance_m, math.radians(self.light_bearing_deg))
+        return formation.with_light(light)
+
 
 def resolve_config(
     *,
-    preset: str = "paper-legged",
+    preset: str | None = None,
     file: Path | None = None,
     overrides: dict[str, Any] | None = None,
 ) -> TrainingConfig:
-    """The preset, updated by the YAML ``file``, then by ``overrides`` (same nesting).
+    """A preset, updated by the YAML ``file``, then by ``overrides`` (same nesting).
+
+    The preset is ``preset``, else the one ``overrides`` or else ``file`` names (key
+    ``preset``), else :data:`DEFAULT_PRESET`.
 
     Raises:
         FormationError: unknown preset, unreadable file, unknown key or bad value.
     """
+    data: dict[str, Any] = {}
+    if file is not None:
+        try:
+            data = yaml.safe_load(Path(file).read_text(encoding="utf-8")) or {}
+        except (OSError, yaml.YAMLError) as exc:
+            raise FormationError(f"cannot read the configuration: {exc}", file=file) from None
+        if not isinstance(data, dict):
+            raise FormationError("expected a mapping", file=file)
+    layers = [(data, file), (overrides or {}, None)]
+    for layer, source in reversed(layers):
+        if preset is None and "preset" in layer:
+            preset = _convert(layer["preset"], str, "preset", source)
+    preset = preset or DEFAULT_PRESET
     if preset not in PRESETS:
         raise FormationError(f"unknown preset {preset!r} (known: {', '.join(PRESETS)})")
     config = TrainingConfig(preset=preset, agent=PRESETS[preset].agent, task=PRESETS[preset].task)
-    if file is not None:
-        try:
-            data = yaml.safe_load(Path(file).read_text(encoding="utf-8"))
-        except (OSError, yaml.YAMLError) as exc:
-            raise FormationError(f"cannot read the configuration: {exc}", file=file) from None
-        config = _merge(config, data or {}, "", file)
-    if overrides:
-        config = _merge(config, overrides, "", None)
+    for layer, source in layers:
+        config = _merge(config, {k: v for k, v in layer.items() if k != "preset"}, "", source)
     if config.sim not in SIMULATORS:
         raise FormationError(f"sim must be one of {', '.join(SIMULATORS)}, got {config.sim!r}")
     return config
@@ -119,7 +147,7 @@ def read_run_config(run: Path) -> TrainingConfig:
         raise FormationError(f"corrupt config.yaml ({exc})", file=run) from None
     if not isinstance(data, dict) or "preset" not in data:
         raise FormationError("corrupt run folder (config.yaml is not a configuration)", file=run)
-    return resolve_config(preset=data["preset"], file=file)
+    return resolve_config(file=file)
 
 
 def _merge(instance: Any, data: Any, path: str, file: Path | None) -> Any:

@@ -35,7 +35,7 @@ from qdsega.locomotion import reference_gaits
 from qdsega.locomotion.env import LocomotionEnv
 from qdsega.locomotion.env_world import EnvWorld
 from qdsega.training.config import TrainingConfig, read_run_config
-from qdsega.training.run import prepare_formation
+from qdsega.training.formation_copy import load_run_formation
 from qdsega.training.run_folder import (
     EVALUATION_FILE,
     POLICY_FILE,
@@ -53,7 +53,7 @@ def evaluate_run(run: Path | str) -> dict[str, Any]:
     """
     run = Path(run)
     summary, config, policy = load_run(run)
-    formation = prepare_formation(summary["formation_file"], config)
+    formation = load_run_formation(run, config)
     env = exact_env(formation, config)
     try:
         learned = replay_policy(env, policy)

@@ -8,13 +8,12 @@ import numpy as np
 
 from qdsega.description import Formation
 from qdsega.errors import FormationError
-from qdsega.locomotion.lower_agent import LowerAgentConfig
+from qdsega.locomotion.env import LocomotionEnv
 from qdsega.rendering.camera import CameraConfig
 from qdsega.rendering.recorder import Film, record
 from qdsega.rendering.video import VIDEO_SUFFIXES, write_video
-from qdsega.simulation import PhysicsSettings
 from qdsega.training.evaluation import load_run, replay_policy
-from qdsega.training.run import prepare_formation
+from qdsega.training.formation_copy import load_run_formation
 from qdsega.training.run_folder import read_evaluation
 from qdsega.training.worlds import exact_env
 
@@ -23,30 +22,22 @@ def render_run(run: Path, out: Path, camera: CameraConfig) -> Film:
     """Film the run's greedy policy in exact physics (the postures ``qdsega evaluate`` replays,
     replayed anew if the run has no evaluation yet) and write the video to ``out``."""
     _check_suffix(out)
-    summary, config, policy = load_run(run)
-    formation = prepare_formation(summary["formation_file"], config)
+    _, config, policy = load_run(run)
+    formation = load_run_formation(run, config)
     evaluation = read_evaluation(run)
-    if evaluation is not None:
-        postures = np.array(evaluation["postures"])
-    else:
-        env = exact_env(formation, config)
-        try:
+    env = exact_env(formation, config, camera=camera)
+    try:
+        if evaluation is not None:
+            postures = np.array(evaluation["postures"])
+        else:
             postures = np.array(replay_policy(env, policy)["postures"])
-        finally:
-            env.close()
-    return render_postures(
-        formation, postures, out, camera, lower_agent=config.lower_agent, physics=config.physics
-    )
+        return _film(env, postures, out)
+    finally:
+        env.close()
 
 
 def render_postures(
-    formation: Formation,
-    postures: np.ndarray,
-    out: Path,
-    camera: CameraConfig,
-    *,
-    lower_agent: LowerAgentConfig | None = None,
-    physics: PhysicsSettings | None = None,
+    formation: Formation, postures: np.ndarray, out: Path, camera: CameraConfig
 ) -> Film:
     """Film ``postures`` (steps, J) of level indices and write the video to ``out``."""
     _check_suffix(out)
@@ -54,13 +45,15 @@ def render_postures(
     counts = np.array([len(j.levels_rad) for j in formation.joints])
     if np.any(postures < 0) or np.any(postures >= counts):
         raise FormationError(f"postures hold levels outside 0..(levels - 1) of {formation.name}")
-    film = record(
-        formation,
-        postures,
-        lower_agent=lower_agent or LowerAgentConfig(),
-        camera=camera,
-        physics=physics,
-    )
+    env = LocomotionEnv(formation=formation, render_mode="rgb_array", camera=camera)
+    try:
+        return _film(env, postures, out)
+    finally:
+        env.close()
+
+
+def _film(env: LocomotionEnv, postures: np.ndarray, out: Path) -> Film:
+    film = record(env, postures)
     write_video(film.frames, out, fps=film.fps)
     return film
 

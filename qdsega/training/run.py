@@ -3,13 +3,19 @@
 The run folder holds:
 
 * ``config.yaml``: the fully resolved :class:`~qdsega.training.config.TrainingConfig`;
+* ``formation/`` and ``formation.json``: the run's own copy of the formation and its unit
+  files, and their hashes (:mod:`qdsega.training.formation_copy`); written with
+  ``config.yaml`` before anything slow, so ``--resume`` can start a run stopped at any moment;
+* ``train.lock``: locked while a ``qdsega train`` writes the folder
+  (:mod:`qdsega.training.run_lock`);
 * ``checkpoint.npz``: where the run stands after its last finished generation
   (:mod:`qdsega.training.checkpoint`); ``qdsega train --resume RUN`` continues from it;
 * ``metrics.csv``: one row per finished generation (see :data:`METRIC_COLUMNS`);
 * ``summary.json`` (written last: its presence means the run is finished): the outcome
   (``distance_m``: the final greedy policy's distance with exact physics, the run's result;
   ``greedy_distance``: what the learner's world predicted for it; exact optimum, budget, wall
-  time, seed);
+  time, seed; ``formation_file``, the original formation, and ``formation_sha256``, its
+  content hash);
   ``optimum`` is the straight-walk optimum of :func:`qdsega.msm.msm_optimum`, exact
   (``optimum_exact``) for a light straight ahead, an upper reference otherwise; null in
   PyBullet worlds (``qdsega evaluate`` measures a reference gait there);
@@ -29,6 +35,7 @@ from __future__ import annotations
 import csv
 import json
 import math
+import shutil
 import time
 from dataclasses import dataclass
 from pathlib import Path
@@ -40,11 +47,17 @@ import yaml
 from qdsega.agent.learner import QDSEGA, Generation
 from qdsega.agent.policy import GreedyPolicy, Rollout
 from qdsega.atomic import replaced_atomically
-from qdsega.description import Formation, Light, load_formation
+from qdsega.description import Formation, load_formation
 from qdsega.errors import FormationError
 from qdsega.training.checkpoint import Checkpoint, load_checkpoint, save_checkpoint
 from qdsega.training.config import TrainingConfig, read_run_config
+from qdsega.training.formation_copy import (
+    FormationSnapshot,
+    load_run_formation,
+    read_formation_record,
+)
 from qdsega.training.run_folder import POLICY_FILE, SUMMARY_FILE
+from qdsega.training.run_lock import LOCK_FILE, run_lock
 from qdsega.training.worlds import TrainingWorld, build_world, check_world, leg_states
 
 METRIC_COLUMNS = (
@@ -122,61 +135,83 @@ class Progress(Protocol):
     def generation(self, report: GenerationReport) -> None: ...
 
 
-def prepare_formation(file: Path | str, config: TrainingConfig) -> Formation:
-    """Load the formation and move its light as ``config.light_bearing_deg`` says."""
-    formation = load_formation(file)
-    if config.light_bearing_deg is not None:
-        light = Light(formation.light.distance_m, math.radians(config.light_bearing_deg))
-        formation = formation.with_light(light)
-    return formation
-
-
 def train(
     formation_file: Path | str,
     config: TrainingConfig,
     out: Path | str,
     *,
+    overwrite: bool = False,
     progress: Progress | None = None,
 ) -> dict[str, Any]:
     """Train with ``config`` and write the new run folder ``out``; return the summary.
 
+    ``config.yaml`` and the formation's copy are written first, before anything slow, so that
+    :func:`resume` can continue a run stopped at any moment.
+
+    Args:
+        overwrite: delete the run folder ``out`` first if it exists.
+
     Raises:
-        FormationError: ``out`` exists and is not empty; unreadable formation, or one the
-            chosen world cannot model.
+        FormationError: ``out`` exists (and ``overwrite`` is not set, or it is not a run
+            folder), or another process is writing it; unreadable formation, or one the chosen
+            world cannot model.
         TrainingInterrupted: Ctrl-C; ``out`` holds the last finished generation.
     """
     out = Path(out)
-    if out.exists() and (not out.is_dir() or any(out.iterdir())):
-        raise FormationError(
-            "run folder exists; continue it with --resume, or choose another --out", file=out
-        )
-    formation = prepare_formation(formation_file, config)
-    check_world(formation, config)
+    original = load_formation(formation_file)
+    check_world(config.with_light(original), config)
+    snapshot = FormationSnapshot.of(original)
+    if out.exists() and not out.is_dir():
+        raise FormationError("not a folder; choose another --out", file=out)
+    if _contents(out) and not (out / "config.yaml").is_file():
+        raise FormationError("not empty and not a run folder (no config.yaml)", file=out)
     out.mkdir(parents=True, exist_ok=True)
-    (out / "config.yaml").write_text(
-        yaml.safe_dump(config.to_dict(), sort_keys=False), encoding="utf-8"
-    )
-    return _run(out, formation, config, None, progress)
+    with run_lock(out):
+        previous = _contents(out)
+        if previous and not overwrite:
+            raise FormationError(
+                "run folder exists; continue it with --resume, start it again with "
+                "--overwrite, or choose another --out",
+                file=out,
+            )
+        for entry in previous:
+            if entry.is_dir():
+                shutil.rmtree(entry)
+            else:
+                entry.unlink()
+        (out / "config.yaml").write_text(
+            yaml.safe_dump(config.to_dict(), sort_keys=False), encoding="utf-8"
+        )
+        snapshot.write(out)
+        return _run(out, load_run_formation(out, config), config, None, progress)
 
 
 def resume(run: Path | str, *, progress: Progress | None = None) -> dict[str, Any]:
-    """Continue the run folder ``run`` from its checkpoint; return the summary.
+    """Continue the run folder ``run`` from its checkpoint, or from its start when it stopped
+    before the first one; return the summary.
 
     Raises:
-        FormationError: missing, corrupt or finished run folder.
+        FormationError: missing, corrupt or finished run folder; another process is writing it.
         TrainingInterrupted: Ctrl-C; ``run`` holds the last finished generation.
     """
     run = Path(run)
     if not run.is_dir():
         raise FormationError("run folder not found", file=run)
-    if (run / SUMMARY_FILE).is_file():
-        raise FormationError(
-            f"run is finished ({SUMMARY_FILE} exists); nothing to resume", file=run
-        )
     config = read_run_config(run)
-    checkpoint = load_checkpoint(run)
-    formation = prepare_formation(checkpoint.formation_file, config)
-    return _run(run, formation, config, checkpoint, progress)
+    with run_lock(run):
+        if (run / SUMMARY_FILE).is_file():
+            raise FormationError(
+                f"run is finished ({SUMMARY_FILE} exists); nothing to resume", file=run
+            )
+        formation = load_run_formation(run, config)
+        return _run(run, formation, config, load_checkpoint(run), progress)
+
+
+def _contents(folder: Path) -> list[Path]:
+    """What ``folder`` holds besides its lock file (nothing when it does not exist)."""
+    if not folder.is_dir():
+        return []
+    return sorted(p for p in folder.iterdir() if p.name != LOCK_FILE)
 
 
 def _run(
@@ -232,7 +267,6 @@ def _run(
 def _first_checkpoint(formation: Formation, config: TrainingConfig, learner: QDSEGA) -> Checkpoint:
     steps = config.task.trial_steps
     return Checkpoint(
-        formation_file=str(Path(formation.file).resolve()),
         learner=learner.state(),
         metrics=np.zeros((0, len(METRIC_COLUMNS))),
         poses=np.zeros((0, steps + 1, 3)),
@@ -269,7 +303,6 @@ def _advance(
         generation.wall_s,
     ]
     return Checkpoint(
-        formation_file=checkpoint.formation_file,
         learner=learner.state(),
         metrics=np.vstack([checkpoint.metrics, np.array(row, dtype=np.float64)]),
         poses=np.concatenate([checkpoint.poses, generation.greedy.poses[None]]),
@@ -352,7 +385,7 @@ def _finish(
     distance = float(last[METRIC_COLUMNS.index("greedy_exact_m")])
     summary = {
         "formation": formation.name,
-        "formation_file": checkpoint.formation_file,
+        **read_formation_record(out).summary(),
         "sim": config.sim,
         "preset": config.preset,
         "seed": config.seed,

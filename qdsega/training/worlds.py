@@ -32,6 +32,7 @@ from qdsega.training.config import TrainingConfig
 
 if TYPE_CHECKING:
     from qdsega.locomotion.env import LocomotionEnv
+    from qdsega.rendering.camera import CameraConfig
 
 MEMO_FILE = "transitions.npz"
 """The memo table in a run folder."""
@@ -142,8 +143,11 @@ def build_world(formation: Formation, config: TrainingConfig, run: Path) -> Trai
     return TrainingWorld(provider, EnvWorld(env=env), grounded, task, None, layout)
 
 
-def exact_env(formation: Formation, config: TrainingConfig) -> LocomotionEnv:
-    """The run's exact-physics environment: its task, lower agent and physics."""
+def exact_env(
+    formation: Formation, config: TrainingConfig, *, camera: CameraConfig | None = None
+) -> LocomotionEnv:
+    """The run's exact-physics environment: its task, lower agent and physics; rendering
+    through ``camera`` when given."""
     from qdsega.locomotion.env import LocomotionEnv  # starts PyBullet: only when needed
 
     return LocomotionEnv(
@@ -151,6 +155,8 @@ def exact_env(formation: Formation, config: TrainingConfig) -> LocomotionEnv:
         task=config.task,
         lower_agent=config.lower_agent,
         physics=config.physics,
+        render_mode=None if camera is None else "rgb_array",
+        camera=camera,
     )
 
 

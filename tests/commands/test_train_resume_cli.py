@@ -127,15 +127,15 @@ def test_an_existing_run_folder_is_never_overwritten(tmp_path):
     run.mkdir()
     (run / "keep.txt").write_text("mine")
     args = ["train", ASSEMBLIES_DIR / "quadruped.yaml", "--generations", "1", "--trials", "10"]
-    refused = run_cli(*args, "--out", run, "--quiet")
-    assert refused.returncode == 2 and "--resume" in refused.stderr
-    assert (run / "keep.txt").read_text() == "mine"
-    not_a_run = run_cli(*args, "--out", run, "--quiet", "--overwrite")
-    assert not_a_run.returncode == 2 and "run folders only" in not_a_run.stderr
-    assert (run / "keep.txt").read_text() == "mine"
+    for overwrite in ([], ["--overwrite"]):
+        refused = run_cli(*args, "--out", run, "--quiet", *overwrite)
+        assert refused.returncode == 2 and "not a run folder" in refused.stderr
+        assert [p.name for p in run.iterdir()] == ["keep.txt"]
     (run / "keep.txt").unlink()
     first = run_cli(*args, "--out", run, "--quiet")
     assert first.returncode == 0, first.stderr
+    again = run_cli(*args, "--out", run, "--quiet")
+    assert again.returncode == 2 and "continue it with --resume" in again.stderr
     (run / "keep.txt").write_text("old run")
     replaced = run_cli(*args, "--out", run, "--quiet", "--overwrite")
     assert replaced.returncode == 0, replaced.stderr

@@ -1,0 +1,194 @@
+"""A run folder's own copy of its formation, so that a finished run never reads the original.
+
+``RUN/formation/`` holds the formation file and every file of the unit types it uses
+(``unit.yaml``, the link template, meshes), laid out as they are in their project folder (the
+folder holding the units folder), so that :func:`qdsega.description.load_formation` reads the
+same formation from the copy. ``RUN/formation.json`` records, written last:
+
+* ``formation``, ``units_dir``: the formation file and the units folder inside ``formation/``;
+* ``source_file``, ``source_dir``: the original formation file and project folder (absolute);
+* ``files``: the sha256 (hex) of every copied file, by its path inside ``formation/``;
+* ``sha256``: the formation's content hash, the sha256 of the lines ``<file sha256>  <path>``
+  (sorted by path, each ending in a newline): the same for the same files anywhere.
+
+Every command that needs a run's formation (``train --resume``, ``evaluate``, ``render``)
+loads it with :func:`load_run_formation`: it checks the copy against its hashes and warns, in
+one line, when the original has changed since.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import os
+import warnings
+from dataclasses import asdict, dataclass
+from pathlib import Path
+from typing import Any
+
+from qdsega.atomic import replaced_atomically
+from qdsega.description import Formation, load_formation
+from qdsega.description.unit_type import mesh_files
+from qdsega.errors import FormationError, QdsegaWarning
+from qdsega.training.config import TrainingConfig
+
+FORMATION_DIR = "formation"
+"""The copy of the formation and its unit files, in a run folder."""
+FORMATION_RECORD = "formation.json"
+"""Where the copy came from and its hashes (:class:`FormationRecord`), in a run folder."""
+
+
+@dataclass(frozen=True, kw_only=True)
+class FormationRecord:
+    """What ``formation.json`` holds (see the module's documentation)."""
+
+    formation: str
+    units_dir: str
+    source_file: str
+    source_dir: str
+    files: dict[str, str]
+
+    @property
+    def sha256(self) -> str:
+        """The formation's content hash (hex)."""
+        return content_hash(self.files)
+
+    def summary(self) -> dict[str, str]:
+        """What ``summary.json`` says about the formation: the original file, the hash."""
+        return {"formation_file": self.source_file, "formation_sha256": self.sha256}
+
+    def source(self, path: str) -> Path:
+        """Where the copied file ``path`` (inside ``formation/``) came from."""
+        return Path(self.source_file) if path == self.formation else Path(self.source_dir) / path
+
+
+@dataclass(frozen=True)
+class FormationSnapshot:
+    """A formation's files read into memory, ready to be written into a run folder.
+
+    Attributes:
+        record: what ``formation.json`` will hold.
+        contents: every file's bytes, by its path inside ``formation/``.
+    """
+
+    record: FormationRecord
+    contents: dict[str, bytes]
+
+    @classmethod
+    def of(cls, formation: Formation) -> FormationSnapshot:
+        """Read the files ``formation`` was loaded from.
+
+        Raises:
+            FormationError: a file cannot be read, or does not fit the copy's layout.
+        """
+        source = Path(formation.file).resolve()
+        units_dir = formation.root.unit_type.folder.parent.resolve()
+        unit_files: dict[str, Path] = {}
+        for unit_type in {u.unit_type.name: u.unit_type for u in formation.units}.values():
+            folder = unit_type.folder.resolve()
+            inside = f"{units_dir.name}/{unit_type.name}"
+            for file in (
+                folder / "unit.yaml",
+                unit_type.template_file.resolve(),
+                *mesh_files(unit_type.link_template, folder),
+            ):
+                path = os.path.normpath(f"{inside}/{os.path.relpath(file, folder)}")
+                unit_files[Path(path).as_posix()] = file
+        for path in unit_files:
+            if Path(path).parts[0] in (source.name, ".."):
+                message = f"cannot copy {path} beside the formation file into the run folder"
+                raise FormationError(message, file=formation.file)
+        files = {source.name: source, **unit_files}
+        try:
+            contents = {path: file.read_bytes() for path, file in files.items()}
+        except OSError as exc:
+            raise FormationError(f"cannot copy the formation: {exc}", file=formation.file) from None
+        record = FormationRecord(
+            formation=source.name,
+            units_dir=units_dir.name,
+            source_file=str(source),
+            source_dir=str(units_dir.parent),
+            files={path: _sha256(data) for path, data in sorted(contents.items())},
+        )
+        return cls(record=record, contents=contents)
+
+    def write(self, run: Path) -> None:
+        """Write ``formation/`` and, last, ``formation.json`` into ``run``."""
+        for path, data in self.contents.items():
+            target = run / FORMATION_DIR / path
+            target.parent.mkdir(parents=True, exist_ok=True)
+            target.write_bytes(data)
+        with replaced_atomically(run / FORMATION_RECORD) as partial:
+            partial.write_text(json.dumps(asdict(self.record), indent=2) + "\n", encoding="utf-8")
+
+
+def load_run_formation(run: Path, config: TrainingConfig) -> Formation:
+    """The formation of run folder ``run``, from its copy, with the light where ``config``
+    puts it. Warns (:class:`~qdsega.errors.QdsegaWarning`) when the original files have
+    changed since the run copied them.
+
+    Raises:
+        FormationError: no copy, or one that does not match its hashes.
+    """
+    record = read_formation_record(run)
+    copy = run / FORMATION_DIR
+    for path, sha in record.files.items():
+        file = copy / path
+        if not file.is_file() or _sha256(file.read_bytes()) != sha:
+            state = "is missing" if not file.is_file() else "differs from its sha256"
+            message = f"corrupt run folder ({FORMATION_DIR}/{path} {state} in {FORMATION_RECORD})"
+            raise FormationError(message, file=run)
+    if Path(record.source_file).is_file():
+        now = content_hash({path: _source_sha256(record.source(path)) for path in record.files})
+        if now != record.sha256:
+            warnings.warn(
+                f"{record.source_file} or its unit files changed since this run copied them "
+                f"(sha256 {now[:12]}, copy {record.sha256[:12]}); using the copy in {copy}",
+                QdsegaWarning,
+                stacklevel=2,
+            )
+    formation = load_formation(copy / record.formation, units_dir=copy / record.units_dir)
+    return config.with_light(formation)
+
+
+def read_formation_record(run: Path) -> FormationRecord:
+    """The run's ``formation.json``.
+
+    Raises:
+        FormationError: the file is missing or is not a record.
+    """
+    file = run / FORMATION_RECORD
+    if not file.is_file():
+        raise FormationError(
+            f"no copy of the formation ({FORMATION_RECORD}): the run stopped before it was "
+            "made, or an older qdsega wrote it; start the run again with "
+            f"qdsega train FORMATION --out {run} --overwrite",
+            file=run,
+        )
+    try:
+        data: Any = json.loads(file.read_text(encoding="utf-8"))
+        record = FormationRecord(**data)
+    except (OSError, ValueError, TypeError) as exc:
+        message = f"corrupt {FORMATION_RECORD} ({exc.__class__.__name__}: {exc})"
+        raise FormationError(message, file=run) from None
+    if not isinstance(record.files, dict) or record.formation not in record.files:
+        raise FormationError(f"corrupt {FORMATION_RECORD} (no formation file listed)", file=run)
+    return record
+
+
+def content_hash(files: dict[str, str]) -> str:
+    """The sha256 (hex) of the lines ``<sha256>  <path>`` of ``files``, sorted by path."""
+    lines = "".join(f"{sha}  {path}\n" for path, sha in sorted(files.items()))
+    return _sha256(lines.encode("utf-8"))
+
+
+def _sha256(data: bytes) -> str:
+    return hashlib.sha256(data).hexdigest()
+
+
+def _source_sha256(file: Path) -> str:
+    """The sha256 of an original file, or "" when it cannot be read (gone)."""
+    try:
+        return _sha256(file.read_bytes())
+    except OSError:
+        return ""
