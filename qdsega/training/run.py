@@ -197,6 +197,12 @@ def resume(run: Path | str, *, progress: Progress | None = None) -> dict[str, An
     run = Path(run)
     if not run.is_dir():
         raise FormationError("run folder not found", file=run)
+    if not (run / "config.yaml").is_file():
+        raise FormationError(
+            "nothing to resume (no config.yaml); start the run with "
+            f"qdsega train FORMATION --out {run}",
+            file=run,
+        )
     config = read_run_config(run)
     with run_lock(run):
         if (run / SUMMARY_FILE).is_file():
