@@ -6,7 +6,10 @@ import argparse
 from pathlib import Path
 
 NAME = "report"
-HELP = "write one self-contained HTML page: summary, evaluation, figures, video, configuration"
+HELP = (
+    "write one self-contained HTML page: summary, evaluation, figures, video, configuration, "
+    "formation"
+)
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:

@@ -1,4 +1,5 @@
-"""One self-contained HTML page about a run: summary, evaluation, figures, video, configuration.
+"""One self-contained HTML page about a run: summary, evaluation, figures, video, configuration
+and the formation (the run's copy of its file).
 
 Figures and the video are embedded as data URIs, so the page can be mailed or uploaded alone.
 The page shows what the run folder holds: figures come from ``qdsega plot``, the evaluation
@@ -15,6 +16,7 @@ from typing import Any
 
 from qdsega.atomic import replaced_atomically
 from qdsega.errors import FormationError
+from qdsega.training.formation_copy import FORMATION_DIR, read_formation_record
 from qdsega.training.plots import FIGURES
 from qdsega.training.run_folder import read_evaluation, read_summary, require_finished
 
@@ -41,8 +43,10 @@ def write_report(run: Path | str, out: Path | None = None) -> Path:
     run = Path(run)
     require_finished(run, "config.yaml")
     summary, evaluation = read_summary(run), read_evaluation(run)
+    record = read_formation_record(run)
     try:
         config = (run / "config.yaml").read_text(encoding="utf-8")
+        formation = (run / FORMATION_DIR / record.formation).read_text(encoding="utf-8")
     except OSError as exc:
         raise FormationError(f"corrupt run folder ({exc})", file=run) from None
     title = f"qdsega run: {summary['formation']} ({summary.get('sim')}, seed {summary.get('seed')})"
@@ -58,6 +62,9 @@ def write_report(run: Path | str, out: Path | None = None) -> Path:
         _figures(run),
         "<h2>Configuration</h2>",
         f"<pre>{html.escape(config)}</pre>",
+        f"<h2>Formation: {html.escape(record.formation)}</h2>",
+        f"<p class='note'>The run's copy; sha256 of it and its unit files {record.sha256}.</p>",
+        f"<pre>{html.escape(formation)}</pre>",
     ]
     page = (
         f"<!DOCTYPE html>\n<html lang='en'><head><meta charset='utf-8'>"
