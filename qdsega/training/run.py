@@ -179,9 +179,8 @@ def train(
                 shutil.rmtree(entry)
             else:
                 entry.unlink()
-        (out / "config.yaml").write_text(
-            yaml.safe_dump(config.to_dict(), sort_keys=False), encoding="utf-8"
-        )
+        with replaced_atomically(out / "config.yaml") as partial:
+            partial.write_text(yaml.safe_dump(config.to_dict(), sort_keys=False), encoding="utf-8")
         snapshot.write(out)
         return _run(out, load_run_formation(out, config), config, None, progress)
 
