@@ -12,7 +12,9 @@ policies actually go), the most specific knowledge first:
 2. else the mean of the moves observed for ``i -> j`` in any context;
 3. else the base table's measurement.
 
-A transition observed to fail more often than not fails.
+A transition observed to fail in its context fails there (a gait that slips a little each
+cycle falls after a few cycles, in the same context as the cycles it survived); in any context,
+one observed to fail more often than not fails.
 """
 
 from __future__ import annotations
@@ -57,8 +59,9 @@ class GroundedTransitions:
         if not self._plain:
             return base
         keys = [t.tobytes() for t in targets]
-        plain = _corrected(base, [{k: self._plain.get(s.tobytes() + k) for k in keys}
-                                  for s in sources])  # fmt: skip
+        plain = _corrected(
+            base, [{k: self._plain.get(s.tobytes() + k) for k in keys} for s in sources], 0.5
+        )
         context = np.full((len(sources), len(sources)), -1, dtype=np.int64)
         rows: list[dict[bytes, np.ndarray | None]] = []
         base_rows: list[int] = []
@@ -80,6 +83,7 @@ class GroundedTransitions:
                 failed=plain.failed[base_rows],
             ),
             rows,
+            0.0,
         )
         return Transitions(
             dx=plain.dx,
@@ -138,9 +142,12 @@ class GroundedTransitions:
             self._context.setdefault(key[:width], {})[key[width:]] = sums
 
 
-def _corrected(table: Transitions, rows: list[dict[bytes, np.ndarray | None]]) -> Transitions:
+def _corrected(
+    table: Transitions, rows: list[dict[bytes, np.ndarray | None]], fail_above: float
+) -> Transitions:
     """``table`` (n, m) with each observed entry (``rows[i][key of target j]``) replaced by
-    the observed mean; ``rows`` lists the targets' keys in column order."""
+    the observed mean; ``rows`` lists the targets' keys in column order. An entry fails where
+    more than ``fail_above`` of its observations failed."""
     dx, dy, dtheta = (np.array(a, dtype=np.float64) for a in (table.dx, table.dy, table.dtheta))
     failed = np.array(table.failed, dtype=np.bool_)
     for i, row in enumerate(rows):
@@ -148,7 +155,7 @@ def _corrected(table: Transitions, rows: list[dict[bytes, np.ndarray | None]]) -
             if sums is None:
                 continue
             moves, failures = sums[3], sums[4]
-            failed[i, j] = failures > moves
+            failed[i, j] = failures > fail_above * (moves + failures)
             if moves > 0:
                 dx[i, j], dy[i, j], dtheta[i, j] = sums[:3] / moves
     return Transitions(dx=dx, dy=dy, dtheta=dtheta, failed=failed)

@@ -57,14 +57,16 @@ def test_observed_moves_override_the_base_most_specific_first():
     assert plain is t and row == 0
 
 
-def test_a_move_observed_to_fail_more_often_than_not_fails():
+def test_a_move_fails_where_it_failed_in_context_and_by_majority_elsewhere():
     table = GroundedTransitions(base=_Base())
     table.observe(_trial([1, 2], [0.0, 0.1, 0.1], failed=True), P[0])
     assert table.transitions(P, P).failed[1, 2]
     table.observe(_trial([1, 2], [0.0, 0.1, 0.2]), P[0])
     table.observe(_trial([1, 2], [0.0, 0.1, 0.2]), P[0])
     t = table.transitions(P, P)
-    assert not t.failed[1, 2] and t.dx[1, 2] == pytest.approx(0.1)
+    assert not t.failed[1, 2] and t.dx[1, 2] == pytest.approx(0.1)  # 2 moves, 1 failure
+    in_context, row = t.row(0, 1)
+    assert in_context.failed[row, 2]  # it failed once after 0 -> 1
 
 
 def test_state_round_trips_and_refuses_another_body():
