@@ -50,8 +50,9 @@ def main() -> None:
                 if (run / "config.yaml").is_file():
                     qdsega("train", "--resume", run)
                 else:
-                    qdsega("train", name, "--sim", "memo", "--preset", preset_of(name),
-                           "--seed", str(seed), "--workers", str(args.workers), "--out", run)  # fmt: skip
+                    preset, workers = preset_of(name), str(args.workers)
+                    qdsega("train", name, "--sim", "memo", "--preset", preset, "--seed",
+                           str(seed), "--workers", workers, "--out", run)  # fmt: skip
             if not (run / "evaluation.json").is_file():
                 qdsega("evaluate", run)
             folders.append(run)
