@@ -7,14 +7,18 @@ moves differently inside a trial: there the move ``i -> j`` depends mostly on th
 went through, and answers Dyna-style (the learner plans on a model that is corrected where its
 policies actually go), the most specific knowledge first:
 
-1. the mean of the moves observed for ``i -> j`` entered from ``h`` (a context row of the
-   table, :class:`qdsega.agent.world.Transitions`);
+1. the latest move observed for ``i -> j`` entered from ``h`` (or at the start of a trial: a
+   context row of the table, :class:`qdsega.agent.world.Transitions`);
 2. else the mean of the moves observed for ``i -> j`` in any context;
 3. else the base table's measurement.
 
-A transition observed to fail in its context fails there (a gait that slips a little each
-cycle falls after a few cycles, in the same context as the cycles it survived); in any context,
-one observed to fail more often than not fails.
+In its context the latest move, not the mean: the physics is deterministic, and what a move
+does there still depends on the history before ``h``, which is that of the policy that went
+there last. The exact trials of a generation are observed exploring ones first, the greedy
+one last, so a greedy policy the learner keeps is predicted as its last replay went. A
+transition observed to fail in its context fails there (a gait that slips a little each cycle
+falls after a few cycles, in the same context as the cycles it survived); in any context, one
+observed to fail more often than not fails.
 """
 
 from __future__ import annotations
@@ -25,7 +29,7 @@ from qdsega.agent.policy import Rollout
 from qdsega.agent.world import TransitionProvider, Transitions
 from qdsega.task import relative_move
 
-_SUMS = 5  # summed dx (m), dy (m), dtheta (rad); moves; failures
+_SUMS = 5  # dx (m), dy (m), dtheta (rad) (summed, or latest in context); moves; failures
 
 
 class GroundedTransitions:
@@ -38,7 +42,8 @@ class GroundedTransitions:
     def __init__(self, *, base: TransitionProvider) -> None:
         self.base = base
         self._plain: dict[bytes, np.ndarray] = {}  # i + j -> sums
-        self._context: dict[bytes, dict[bytes, np.ndarray]] = {}  # h + i -> {j -> sums}
+        self._context: dict[bytes, dict[bytes, np.ndarray]] = {}  # h + i -> {j -> latest}
+        self._start = np.full(self.n_joints, -1, dtype=np.int64).tobytes()  # h of a start
 
     @property
     def n_joints(self) -> int:
@@ -60,14 +65,14 @@ class GroundedTransitions:
             return base
         keys = [t.tobytes() for t in targets]
         plain = _corrected(
-            base, [{k: self._plain.get(s.tobytes() + k) for k in keys} for s in sources], 0.5
+            base, [{k: self._plain.get(s.tobytes() + k) for k in keys} for s in sources], True
         )
-        context = np.full((len(sources), len(sources)), -1, dtype=np.int64)
+        context = np.full((len(sources) + 1, len(sources)), -1, dtype=np.int64)
         rows: list[dict[bytes, np.ndarray | None]] = []
         base_rows: list[int] = []
-        for h, previous in enumerate(sources):
+        for h, previous in enumerate([*(s.tobytes() for s in sources), self._start]):
             for i, source in enumerate(sources):
-                seen = self._context.get(previous.tobytes() + source.tobytes())
+                seen = self._context.get(previous + source.tobytes())
                 if seen is None or not any(k in seen for k in keys):
                     continue
                 context[h, i] = len(rows)
@@ -83,7 +88,7 @@ class GroundedTransitions:
                 failed=plain.failed[base_rows],
             ),
             rows,
-            0.0,
+            False,
         )
         return Transitions(
             dx=plain.dx,
@@ -107,15 +112,20 @@ class GroundedTransitions:
                 outcome = np.array([0.0, 0.0, 0.0, 0.0, 1.0])
             source = reached[t].tobytes()
             self._plain.setdefault(source + target.tobytes(), np.zeros(_SUMS))[:] += outcome
-            if t > 0:
-                seen = self._context.setdefault(reached[t - 1].tobytes() + source, {})
-                seen.setdefault(target.tobytes(), np.zeros(_SUMS))[:] += outcome
+            previous = reached[t - 1].tobytes() if t > 0 else self._start
+            latest = self._context.setdefault(previous + source, {}).setdefault(
+                target.tobytes(), np.zeros(_SUMS)
+            )
+            latest[3:] += outcome[3:]
+            if outcome[3]:
+                latest[:3] = outcome[:3]
         return len(targets)
 
     def state(self) -> dict[str, np.ndarray]:
         """The observations as arrays (for a checkpoint): ``plain_keys`` (n, 2J) levels of
-        ``i, j`` and ``plain_sums`` (n, 5); ``context_keys`` (c, 3J) levels of ``h, i, j`` and
-        ``context_sums`` (c, 5). Sums: dx (m), dy (m), dtheta (rad), moves, failures."""
+        ``i, j`` and ``plain_sums`` (n, 5): summed dx (m), dy (m), dtheta (rad), moves,
+        failures; ``context_keys`` (c, 3J) levels of ``h, i, j`` (``h`` all -1: the start of
+        a trial) and ``context_sums`` (c, 5): the latest dx, dy, dtheta, moves, failures."""
         triples = {
             pair + target: sums
             for pair, seen in self._context.items()
@@ -143,11 +153,12 @@ class GroundedTransitions:
 
 
 def _corrected(
-    table: Transitions, rows: list[dict[bytes, np.ndarray | None]], fail_above: float
+    table: Transitions, rows: list[dict[bytes, np.ndarray | None]], summed: bool
 ) -> Transitions:
     """``table`` (n, m) with each observed entry (``rows[i][key of target j]``) replaced by
-    the observed mean; ``rows`` lists the targets' keys in column order. An entry fails where
-    more than ``fail_above`` of its observations failed."""
+    the observed move (``summed``: the mean of the summed moves; else the latest); ``rows``
+    lists the targets' keys in column order. An entry fails where most of its observations
+    failed (``summed``), else where any did."""
     dx, dy, dtheta = (np.array(a, dtype=np.float64) for a in (table.dx, table.dy, table.dtheta))
     failed = np.array(table.failed, dtype=np.bool_)
     for i, row in enumerate(rows):
@@ -155,9 +166,9 @@ def _corrected(
             if sums is None:
                 continue
             moves, failures = sums[3], sums[4]
-            failed[i, j] = failures > fail_above * (moves + failures)
+            failed[i, j] = failures > moves if summed else failures > 0
             if moves > 0:
-                dx[i, j], dy[i, j], dtheta[i, j] = sums[:3] / moves
+                dx[i, j], dy[i, j], dtheta[i, j] = sums[:3] / moves if summed else sums[:3]
     return Transitions(dx=dx, dy=dy, dtheta=dtheta, failed=failed)
 
 

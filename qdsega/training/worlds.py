@@ -75,14 +75,15 @@ class TrainingWorld:
             return generation.greedy
         steps, start = self.task.trial_steps, generation.space.postures[0]
         greedy = generation.policy
-        trial = rollout(greedy, self.exact, steps=steps)
-        if self.grounded is not None:
-            self.grounded.observe(trial, start)
+        if self.grounded is not None:  # exploring trials first: the greedy one is seen last
             trials, temperature = self.explore
             rng = np.random.default_rng([self.seed, generation.index])
             policy = BoltzmannPolicy(greedy=greedy, temperature=temperature, rng=rng)
             for _ in range(trials):
                 self.grounded.observe(rollout(policy, self.exact, steps=steps), start)
+        trial = rollout(greedy, self.exact, steps=steps)
+        if self.grounded is not None:
+            self.grounded.observe(trial, start)
         return trial
 
     def state(self) -> dict[str, np.ndarray]:

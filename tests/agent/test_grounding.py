@@ -82,3 +82,15 @@ def test_state_round_trips_and_refuses_another_body():
     state["plain_keys"] = np.zeros((1, 4), dtype=np.int64)
     with pytest.raises(ValueError, match="do not fit"):
         copy.restore(state)
+
+
+def test_in_context_the_latest_move_holds_and_a_trial_start_is_a_context():
+    table = GroundedTransitions(base=_Base())
+    table.observe(_trial([1, 2], [0.0, 0.1, 0.3]), P[0])
+    table.observe(_trial([1, 2], [0.0, 0.2, 0.3]), P[0])
+    t = table.transitions(P, P)
+    assert t.dx[0, 1] == pytest.approx(0.15)  # any context: the mean
+    start, row = t.row(-1, 0)  # the trial's first move: the latest
+    assert start is t.in_context and start.dx[row, 1] == pytest.approx(0.2)
+    after, row = t.row(0, 1)
+    assert after.dx[row, 2] == pytest.approx(0.1)
