@@ -7,18 +7,18 @@ moves differently inside a trial: there the move ``i -> j`` depends mostly on th
 went through, and answers Dyna-style (the learner plans on a model that is corrected where its
 policies actually go), the most specific knowledge first:
 
-1. the latest move observed for ``i -> j`` entered from ``h`` (or at the start of a trial: a
-   context row of the table, :class:`qdsega.agent.world.Transitions`);
+1. the mean move of the latest trial that went ``i -> j`` entered from ``h`` (or at the start
+   of a trial: a context row of the table, :class:`qdsega.agent.world.Transitions`);
 2. else the mean of the moves observed for ``i -> j`` in any context;
 3. else the base table's measurement.
 
-In its context the latest move, not the mean: the physics is deterministic, and what a move
-does there still depends on the history before ``h``, which is that of the policy that went
-there last. The exact trials of a generation are observed exploring ones first, the greedy
-one last, so a greedy policy the learner keeps is predicted as its last replay went. A
-transition observed to fail in its context fails there (a gait that slips a little each cycle
-falls after a few cycles, in the same context as the cycles it survived); in any context, one
-observed to fail more often than not fails.
+In its context the latest trial's mean, not the mean of all: the physics is deterministic,
+and what a move does there still depends on the history before ``h``, which is that of the
+policy that went there last. The exact trials of a generation are observed exploring ones
+first, the greedy one last, so a greedy policy the learner keeps is predicted as its last
+replay went. A transition observed to fail in its context fails there (a gait that slips a
+little each cycle falls after a few cycles, in the same context as the cycles it survived);
+in any context, one observed to fail more often than not fails.
 """
 
 from __future__ import annotations
@@ -103,6 +103,7 @@ class GroundedTransitions:
         """Record the moves of an exact trial that started in posture ``start`` (J,); returns
         the commands it observed."""
         reached = trial.reached_postures(start)
+        trial_sums: dict[tuple[bytes, bytes], np.ndarray] = {}  # this trial's, in context
         targets = list(reached[1:]) + ([trial.postures[-1]] if trial.failed else [])
         for t, target in enumerate(targets):
             if t < len(reached) - 1:
@@ -113,19 +114,21 @@ class GroundedTransitions:
             source = reached[t].tobytes()
             self._plain.setdefault(source + target.tobytes(), np.zeros(_SUMS))[:] += outcome
             previous = reached[t - 1].tobytes() if t > 0 else self._start
-            latest = self._context.setdefault(previous + source, {}).setdefault(
-                target.tobytes(), np.zeros(_SUMS)
-            )
-            latest[3:] += outcome[3:]
-            if outcome[3]:
-                latest[:3] = outcome[:3]
+            key = (previous + source, target.tobytes())
+            trial_sums.setdefault(key, np.zeros(_SUMS))[:] += outcome
+        for (pair, target), sums in trial_sums.items():
+            latest = self._context.setdefault(pair, {}).setdefault(target, np.zeros(_SUMS))
+            latest[3:] += sums[3:]
+            if sums[3]:
+                latest[:3] = sums[:3] / sums[3]
         return len(targets)
 
     def state(self) -> dict[str, np.ndarray]:
         """The observations as arrays (for a checkpoint): ``plain_keys`` (n, 2J) levels of
         ``i, j`` and ``plain_sums`` (n, 5): summed dx (m), dy (m), dtheta (rad), moves,
         failures; ``context_keys`` (c, 3J) levels of ``h, i, j`` (``h`` all -1: the start of
-        a trial) and ``context_sums`` (c, 5): the latest dx, dy, dtheta, moves, failures."""
+        a trial) and ``context_sums`` (c, 5): the latest trial's mean dx, dy, dtheta; all moves
+        and failures."""
         triples = {
             pair + target: sums
             for pair, seen in self._context.items()
