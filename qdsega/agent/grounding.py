@@ -10,7 +10,11 @@ policies actually go), the most specific knowledge first:
 1. the mean move of the latest trial that went ``i -> j`` entered from ``h`` (or at the start
    of a trial: a context row of the table, :class:`qdsega.agent.world.Transitions`);
 2. else the mean of the moves observed for ``i -> j`` in any context;
-3. else the base table's measurement.
+3. else the base table's measurement, less the root-mean-square gap (m) between the base's
+   forward moves and the observed ones (a lower confidence bound: among many unobserved
+   transitions the learner would pick those the base overrates, and predict a gait that
+   exact physics then does not walk; where the base is right, as for legged bodies, the gap
+   and the correction are small).
 
 In its context the latest trial's mean, not the mean of all: the physics is deterministic,
 and what a move does there still depends on the history before ``h``, which is that of the
@@ -44,6 +48,7 @@ class GroundedTransitions:
         self._plain: dict[bytes, np.ndarray] = {}  # i + j -> sums
         self._context: dict[bytes, dict[bytes, np.ndarray]] = {}  # h + i -> {j -> latest}
         self._start = np.full(self.n_joints, -1, dtype=np.int64).tobytes()  # h of a start
+        self._base_dx: dict[bytes, float] = {}  # i + j -> the base's forward move (m)
 
     @property
     def n_joints(self) -> int:
@@ -64,8 +69,17 @@ class GroundedTransitions:
         if not self._plain:
             return base
         keys = [t.tobytes() for t in targets]
+        gap = self.base_gap_m()
+        unobserved = Transitions(
+            dx=np.asarray(base.dx, dtype=np.float64) - gap,
+            dy=base.dy,
+            dtheta=base.dtheta,
+            failed=base.failed,
+        )
         plain = _corrected(
-            base, [{k: self._plain.get(s.tobytes() + k) for k in keys} for s in sources], True
+            unobserved,
+            [{k: self._plain.get(s.tobytes() + k) for k in keys} for s in sources],
+            True,
         )
         context = np.full((len(sources) + 1, len(sources)), -1, dtype=np.int64)
         rows: list[dict[bytes, np.ndarray | None]] = []
@@ -98,6 +112,21 @@ class GroundedTransitions:
             context=context,
             in_context=in_context,
         )
+
+    def base_gap_m(self) -> float:
+        """Root-mean-square difference between the observed mean forward move and the base's
+        measurement, over the transitions observed to move (m)."""
+        gaps = []
+        for key, sums in self._plain.items():
+            if sums[3] == 0:
+                continue
+            if key not in self._base_dx:
+                source, target = np.frombuffer(key, dtype=np.int64).reshape(2, -1)
+                self._base_dx[key] = float(
+                    self.base.transitions(source[None], target[None]).dx[0, 0]
+                )
+            gaps.append(sums[0] / sums[3] - self._base_dx[key])
+        return float(np.sqrt(np.mean(np.square(gaps)))) if gaps else 0.0
 
     def observe(self, trial: Rollout, start: np.ndarray) -> int:
         """Record the moves of an exact trial that started in posture ``start`` (J,); returns

@@ -46,13 +46,16 @@ def test_observed_moves_override_the_base_most_specific_first():
     t = table.transitions(P, P)
     assert t.dx[0, 1] == pytest.approx(0.1)
     assert t.dx[1, 2] == pytest.approx(0.3)  # mean over both contexts
-    assert t.dx[0, 2] == pytest.approx(0.01)  # never observed: the base
+    # Never observed: the base, less the RMS gap between observed and base forward moves.
+    gap = np.sqrt(np.mean(np.square([0.1 - 0.01, 0.3 - 0.01, 0.3 - 0.01])))
+    assert table.base_gap_m() == pytest.approx(gap)
+    assert t.dx[0, 2] == pytest.approx(0.01 - gap)
     in_context, row = t.row(0, 1)  # 1 entered from 0
     assert in_context is t.in_context and in_context.dx[row, 2] == pytest.approx(0.2)
     in_context, row = t.row(2, 1)
     assert in_context.dx[row, 2] == pytest.approx(0.4)
     in_context, row = t.row(0, 1)
-    assert in_context.dx[row, 0] == pytest.approx(0.01)  # the plain row where unobserved
+    assert in_context.dx[row, 0] == pytest.approx(0.01 - gap)  # the plain row where unobserved
     plain, row = t.row(1, 0)  # no observation after 1 -> 0
     assert plain is t and row == 0
 
