@@ -174,7 +174,7 @@ PRESETS: dict[str, Preset] = {
                 mutation_rate=0.02,
             ),
         ),
-        task=TaskConfig(),
+        task=TaskConfig(distance_unit_m=0.01),
     ),
     "memo-legged": Preset(
         agent=QDSEGAConfig(genetic=GeneticConfig(population=40, generations=30)),

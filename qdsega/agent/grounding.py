@@ -7,12 +7,22 @@ moves differently inside a trial: there the move ``i -> j`` depends mostly on th
 went through, and answers Dyna-style (the learner plans on a model that is corrected where its
 policies actually go), the most specific knowledge first:
 
-1. the mean of the moves observed for ``i -> j`` entered from ``h`` (a context row of the
-   table, :class:`qdsega.agent.world.Transitions`);
+1. the mean move of the latest trial that went ``i -> j`` entered from ``h`` (or at the start
+   of a trial: a context row of the table, :class:`qdsega.agent.world.Transitions`);
 2. else the mean of the moves observed for ``i -> j`` in any context;
-3. else the base table's measurement.
+3. else the base table's measurement, less the root-mean-square gap (m) between the base's
+   forward moves and the observed ones (a lower confidence bound: among many unobserved
+   transitions the learner would pick those the base overrates, and predict a gait that
+   exact physics then does not walk; where the base is right, as for legged bodies, the gap
+   and the correction are small).
 
-A transition observed to fail more often than not fails.
+In its context the latest trial's mean, not the mean of all: the physics is deterministic,
+and what a move does there still depends on the history before ``h``, which is that of the
+policy that went there last. The exact trials of a generation are observed exploring ones
+first, the greedy one last, so a greedy policy the learner keeps is predicted as its last
+replay went. A transition observed to fail in its context fails there (a gait that slips a
+little each cycle falls after a few cycles, in the same context as the cycles it survived);
+in any context, one observed to fail more often than not fails.
 """
 
 from __future__ import annotations
@@ -23,7 +33,7 @@ from qdsega.agent.policy import Rollout
 from qdsega.agent.world import TransitionProvider, Transitions
 from qdsega.task import relative_move
 
-_SUMS = 5  # summed dx (m), dy (m), dtheta (rad); moves; failures
+_SUMS = 5  # dx (m), dy (m), dtheta (rad) (summed, or latest in context); moves; failures
 
 
 class GroundedTransitions:
@@ -36,7 +46,9 @@ class GroundedTransitions:
     def __init__(self, *, base: TransitionProvider) -> None:
         self.base = base
         self._plain: dict[bytes, np.ndarray] = {}  # i + j -> sums
-        self._context: dict[bytes, dict[bytes, np.ndarray]] = {}  # h + i -> {j -> sums}
+        self._context: dict[bytes, dict[bytes, np.ndarray]] = {}  # h + i -> {j -> latest}
+        self._start = np.full(self.n_joints, -1, dtype=np.int64).tobytes()  # h of a start
+        self._base_dx: dict[bytes, float] = {}  # i + j -> the base's forward move (m)
 
     @property
     def n_joints(self) -> int:
@@ -57,14 +69,24 @@ class GroundedTransitions:
         if not self._plain:
             return base
         keys = [t.tobytes() for t in targets]
-        plain = _corrected(base, [{k: self._plain.get(s.tobytes() + k) for k in keys}
-                                  for s in sources])  # fmt: skip
-        context = np.full((len(sources), len(sources)), -1, dtype=np.int64)
+        gap = self.base_gap_m()
+        unobserved = Transitions(
+            dx=np.asarray(base.dx, dtype=np.float64) - gap,
+            dy=base.dy,
+            dtheta=base.dtheta,
+            failed=base.failed,
+        )
+        plain = _corrected(
+            unobserved,
+            [{k: self._plain.get(s.tobytes() + k) for k in keys} for s in sources],
+            True,
+        )
+        context = np.full((len(sources) + 1, len(sources)), -1, dtype=np.int64)
         rows: list[dict[bytes, np.ndarray | None]] = []
         base_rows: list[int] = []
-        for h, previous in enumerate(sources):
+        for h, previous in enumerate([*(s.tobytes() for s in sources), self._start]):
             for i, source in enumerate(sources):
-                seen = self._context.get(previous.tobytes() + source.tobytes())
+                seen = self._context.get(previous + source.tobytes())
                 if seen is None or not any(k in seen for k in keys):
                     continue
                 context[h, i] = len(rows)
@@ -80,6 +102,7 @@ class GroundedTransitions:
                 failed=plain.failed[base_rows],
             ),
             rows,
+            False,
         )
         return Transitions(
             dx=plain.dx,
@@ -90,10 +113,26 @@ class GroundedTransitions:
             in_context=in_context,
         )
 
+    def base_gap_m(self) -> float:
+        """Root-mean-square difference between the observed mean forward move and the base's
+        measurement, over the transitions observed to move (m)."""
+        gaps = []
+        for key, sums in self._plain.items():
+            if sums[3] == 0:
+                continue
+            if key not in self._base_dx:
+                source, target = np.frombuffer(key, dtype=np.int64).reshape(2, -1)
+                self._base_dx[key] = float(
+                    self.base.transitions(source[None], target[None]).dx[0, 0]
+                )
+            gaps.append(sums[0] / sums[3] - self._base_dx[key])
+        return float(np.sqrt(np.mean(np.square(gaps)))) if gaps else 0.0
+
     def observe(self, trial: Rollout, start: np.ndarray) -> int:
         """Record the moves of an exact trial that started in posture ``start`` (J,); returns
         the commands it observed."""
         reached = trial.reached_postures(start)
+        trial_sums: dict[tuple[bytes, bytes], np.ndarray] = {}  # this trial's, in context
         targets = list(reached[1:]) + ([trial.postures[-1]] if trial.failed else [])
         for t, target in enumerate(targets):
             if t < len(reached) - 1:
@@ -103,15 +142,22 @@ class GroundedTransitions:
                 outcome = np.array([0.0, 0.0, 0.0, 0.0, 1.0])
             source = reached[t].tobytes()
             self._plain.setdefault(source + target.tobytes(), np.zeros(_SUMS))[:] += outcome
-            if t > 0:
-                seen = self._context.setdefault(reached[t - 1].tobytes() + source, {})
-                seen.setdefault(target.tobytes(), np.zeros(_SUMS))[:] += outcome
+            previous = reached[t - 1].tobytes() if t > 0 else self._start
+            key = (previous + source, target.tobytes())
+            trial_sums.setdefault(key, np.zeros(_SUMS))[:] += outcome
+        for (pair, target), sums in trial_sums.items():
+            latest = self._context.setdefault(pair, {}).setdefault(target, np.zeros(_SUMS))
+            latest[3:] += sums[3:]
+            if sums[3]:
+                latest[:3] = sums[:3] / sums[3]
         return len(targets)
 
     def state(self) -> dict[str, np.ndarray]:
         """The observations as arrays (for a checkpoint): ``plain_keys`` (n, 2J) levels of
-        ``i, j`` and ``plain_sums`` (n, 5); ``context_keys`` (c, 3J) levels of ``h, i, j`` and
-        ``context_sums`` (c, 5). Sums: dx (m), dy (m), dtheta (rad), moves, failures."""
+        ``i, j`` and ``plain_sums`` (n, 5): summed dx (m), dy (m), dtheta (rad), moves,
+        failures; ``context_keys`` (c, 3J) levels of ``h, i, j`` (``h`` all -1: the start of
+        a trial) and ``context_sums`` (c, 5): the latest trial's mean dx, dy, dtheta; all moves
+        and failures."""
         triples = {
             pair + target: sums
             for pair, seen in self._context.items()
@@ -138,9 +184,13 @@ class GroundedTransitions:
             self._context.setdefault(key[:width], {})[key[width:]] = sums
 
 
-def _corrected(table: Transitions, rows: list[dict[bytes, np.ndarray | None]]) -> Transitions:
+def _corrected(
+    table: Transitions, rows: list[dict[bytes, np.ndarray | None]], summed: bool
+) -> Transitions:
     """``table`` (n, m) with each observed entry (``rows[i][key of target j]``) replaced by
-    the observed mean; ``rows`` lists the targets' keys in column order."""
+    the observed move (``summed``: the mean of the summed moves; else the latest); ``rows``
+    lists the targets' keys in column order. An entry fails where most of its observations
+    failed (``summed``), else where any did."""
     dx, dy, dtheta = (np.array(a, dtype=np.float64) for a in (table.dx, table.dy, table.dtheta))
     failed = np.array(table.failed, dtype=np.bool_)
     for i, row in enumerate(rows):
@@ -148,9 +198,9 @@ def _corrected(table: Transitions, rows: list[dict[bytes, np.ndarray | None]]) -
             if sums is None:
                 continue
             moves, failures = sums[3], sums[4]
-            failed[i, j] = failures > moves
+            failed[i, j] = failures > moves if summed else failures > 0
             if moves > 0:
-                dx[i, j], dy[i, j], dtheta[i, j] = sums[:3] / moves
+                dx[i, j], dy[i, j], dtheta[i, j] = sums[:3] / moves if summed else sums[:3]
     return Transitions(dx=dx, dy=dy, dtheta=dtheta, failed=failed)
 
 

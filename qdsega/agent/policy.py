@@ -11,10 +11,11 @@ import zipfile
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Protocol
 
 import numpy as np
 
-from qdsega.agent.boltzmann import greedy
+from qdsega.agent.boltzmann import boltzmann_select, greedy
 from qdsega.agent.space import ExplorationSpace
 from qdsega.agent.world import World
 from qdsega.atomic import replaced_atomically
@@ -82,6 +83,41 @@ class GreedyPolicy:
             raise ValueError(f"{exc.__class__.__name__}: {exc}") from None
 
 
+class Policy(Protocol):
+    """Chooses an action index in (interior, exterior) over ``actions`` (A, J)."""
+
+    actions: np.ndarray
+    next_interior: np.ndarray
+
+    def act(self, interior: int, exterior: int) -> int: ...
+
+
+class BoltzmannPolicy:
+    """Draw actions from eq. (18)'s distribution over a greedy policy's Q-table.
+
+    Args:
+        greedy: the Q-table and its space.
+        temperature: T of the Boltzmann distribution (reward units).
+        rng: the source of the draws (one uniform per action).
+    """
+
+    def __init__(
+        self, *, greedy: GreedyPolicy, temperature: float, rng: np.random.Generator
+    ) -> None:
+        if not temperature > 0:
+            raise ValueError(f"temperature must be positive, got {temperature}")
+        self.greedy = greedy
+        self.actions = greedy.actions
+        self.next_interior = greedy.next_interior
+        self.temperature = temperature
+        self.rng = rng
+        self._weights = np.empty(len(greedy.actions))
+
+    def act(self, interior: int, exterior: int) -> int:
+        row = self.greedy.q[interior * self.greedy.n_exterior + exterior]
+        return int(boltzmann_select(row, self.temperature, self.rng.random(), self._weights))
+
+
 @dataclass(frozen=True)
 class Rollout:
     """One trial of a policy.
@@ -110,7 +146,7 @@ class Rollout:
 
 
 def rollout(
-    policy: GreedyPolicy,
+    policy: Policy,
     world: World,
     *,
     steps: int,

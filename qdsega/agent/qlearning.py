@@ -84,8 +84,9 @@ def learn_on_table(
         q: Q-table, shape (n_interior * n_exterior, A), updated in place.
         dx, dy, dtheta, failed: the transition table, shape (n_interior, A) (m, m, rad, bool).
         context: ``context[h, i]``: the row of the ``context_*`` arrays for moves from interior
-            state ``i`` entered from ``h``, or -1 for row ``i`` of the plain table, shape
-            (n_interior, n_interior) (:class:`qdsega.agent.world.Transitions`).
+            state ``i`` entered from ``h`` (``h = n_interior``: the trial's start), or -1 for
+            row ``i`` of the plain table, shape (n_interior + 1, n_interior)
+            (:class:`qdsega.agent.world.Transitions`).
         context_dx, context_dy, context_dtheta, context_failed: those rows, shape (R, A).
         next_interior: interior state each action leads to, shape (A,).
         light: light position (x, y) (m).
@@ -103,6 +104,7 @@ def learn_on_table(
         The number of steps (commands) taken.
     """
     n_exterior = edges.shape[0]
+    n_interior = dx.shape[0]
     weights = np.empty(q.shape[1])
     # max_a Q(s, a) of every row, kept up to date (eq. 1's max and the roulette's shift).
     row_top = np.empty(q.shape[0])
@@ -126,7 +128,7 @@ def learn_on_table(
             uses[a] += 1
             steps += 1
             old = q[s, a]
-            r = context[previous, interior] if previous >= 0 else -1
+            r = context[previous if previous >= 0 else n_interior, interior]
             if failed[interior, a] if r < 0 else context_failed[r, a]:
                 q[s, a] = (1.0 - alpha) * old + alpha * penalty
                 _update_top(q, s, old, q[s, a], row_top)

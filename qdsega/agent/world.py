@@ -31,8 +31,9 @@ class Transitions:
         failed: the lower agent could not reach the posture (the robot fell), shape (n, m).
         context: where the outcome also depends on the posture the robot just came from:
             ``context[h, i]`` is the row of ``in_context`` that holds the outcomes of the moves
-            from ``from`` posture ``i`` reached from ``from`` posture ``h``, or -1 where the
-            plain row ``i`` holds; shape (n, n), or None for none.
+            from ``from`` posture ``i`` reached from ``from`` posture ``h`` (``h = n``: ``i``
+            is where the trial started), or -1 where the plain row ``i`` holds; shape
+            (n + 1, n), or None for none.
         in_context: those rows, shape (R, m) (a table of its own, without context).
     """
 
@@ -54,8 +55,10 @@ class Transitions:
             raise ValueError("context and in_context come together")
         if self.context is not None and self.in_context is not None:
             rows = len(self.in_context.dx)
-            if np.shape(self.context) != (shape[0], shape[0]):
-                raise ValueError(f"context has shape {np.shape(self.context)}, not {shape[0]}^2")
+            if np.shape(self.context) != (shape[0] + 1, shape[0]):
+                raise ValueError(
+                    f"context has shape {np.shape(self.context)}, not {(shape[0] + 1, shape[0])}"
+                )
             if np.shape(self.in_context.dx)[1:] != shape[1:] or self.in_context.context is not None:
                 raise ValueError("in_context must be plain rows of the same targets")
             if np.any(self.context >= rows) or np.any(self.context < -1):
@@ -64,15 +67,16 @@ class Transitions:
     def row(self, h: int, i: int) -> tuple[Transitions, int]:
         """The table and row that hold the moves from ``i`` reached from ``h`` (-1: the trial
         has just started)."""
-        if h >= 0 and self.context is not None and self.in_context is not None:
-            r = int(self.context[h, i])
+        if self.context is not None and self.in_context is not None:
+            r = int(self.context[h if h >= 0 else len(self.dx), i])
             if r >= 0:
                 return self.in_context, r
         return self, i
 
     def compiled(self) -> tuple[np.ndarray, ...]:
-        """The arrays the compiled loop takes: dx, dy, dtheta, failed (n, m); context (n, n)
-        (all -1 without context); and the in-context rows' dx, dy, dtheta, failed (R, m)."""
+        """The arrays the compiled loop takes: dx, dy, dtheta, failed (n, m); context
+        (n + 1, n) (all -1 without context); and the in-context rows' dx, dy, dtheta, failed
+        (R, m)."""
         n, m = np.shape(self.dx)
         plain = tuple(
             np.ascontiguousarray(a, dtype=np.float64) for a in (self.dx, self.dy, self.dtheta)
@@ -80,7 +84,7 @@ class Transitions:
         failed = np.ascontiguousarray(self.failed, dtype=np.bool_)
         if self.context is None or self.in_context is None:
             empty = np.zeros((0, m))
-            return (*plain, failed, np.full((n, n), -1, dtype=np.int64), empty, empty, empty,
+            return (*plain, failed, np.full((n + 1, n), -1, dtype=np.int64), empty, empty, empty,
                     np.zeros((0, m), dtype=np.bool_))  # fmt: skip
         inner = self.in_context.compiled()
         return (*plain, failed, np.ascontiguousarray(self.context, dtype=np.int64), *inner[:4])

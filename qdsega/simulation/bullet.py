@@ -93,13 +93,10 @@ class BulletSimulation:
     def _configure_engine(self) -> None:
         c, s = self.client, self.settings
         c.setGravity(0.0, 0.0, -s.gravity_m_s2)
-        # Overlapping pairs in a fixed order: otherwise a pair made during a fall (a trunk that
-        # touches the ground) survives restoreState and reorders the solver's constraints, and
-        # the same snapshot replays differently (by about 1e-6) after a fall than before it.
         c.setPhysicsEngineParameter(
             fixedTimeStep=s.time_step_s,
             numSolverIterations=s.solver_iterations,
-            deterministicOverlappingPairs=1,
+            deterministicOverlappingPairs=int(s.deterministic_pairs),
         )
 
     def _link_indices(self) -> dict[str, int]:

@@ -64,6 +64,9 @@ class TrainingConfig:
         workers: processes measuring memo transitions in parallel.
         ground_table: memo mode: correct the table with the moves that each generation's
             exact replay of its greedy policy went through (:mod:`qdsega.agent.grounding`).
+        explore_trials: memo mode with ``ground_table``: trials of each generation's
+            Q-table drawn at eq. (18)'s last temperature and replayed with exact physics,
+            besides the greedy one, to ground the table where the learner may go next.
     """
 
     preset: str = DEFAULT_PRESET
@@ -77,10 +80,13 @@ class TrainingConfig:
     physics: PhysicsSettings = field(default_factory=PhysicsSettings)
     workers: int = 2
     ground_table: bool = True
+    explore_trials: int = 4
 
     def __post_init__(self) -> None:
         if self.workers < 1:
             raise ValueError(f"workers must be at least 1, got {self.workers}")
+        if self.explore_trials < 0:
+            raise ValueError(f"explore_trials must not be negative, got {self.explore_trials}")
 
     def to_dict(self) -> dict[str, Any]:
         """Plain types only (tuples become lists), for YAML."""

@@ -20,9 +20,10 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from qdsega.agent.boltzmann import temperature
 from qdsega.agent.grounding import GroundedTransitions
 from qdsega.agent.learner import Generation
-from qdsega.agent.policy import Rollout, rollout
+from qdsega.agent.policy import BoltzmannPolicy, Rollout, rollout
 from qdsega.agent.world import TransitionProvider, World
 from qdsega.description import Formation
 from qdsega.errors import FormationError
@@ -50,6 +51,10 @@ class TrainingWorld:
         grounded: the table that exact replays correct (memo mode with ``ground_table``;
             it is also ``provider``), else None.
         task: the rules.
+        explore: exploring trials replayed with exact physics each generation besides the
+            greedy one (memo mode), and the Boltzmann temperature they draw actions at.
+        seed: the run's seed; an exploring trial of generation ``g`` draws from a generator
+            seeded ``(seed, g)``, so a resumed run draws the same.
         optimum: the exact optimum where one is known (the MSM), else None.
         layout: the legs, for gait figures; None for a legless formation.
     """
@@ -60,15 +65,26 @@ class TrainingWorld:
     task: Task
     optimum: Optimum | None
     layout: LegLayout | None
+    explore: tuple[int, float] = (0, 1.0)
+    seed: int = 0
 
     def replay(self, generation: Generation) -> Rollout:
         """The generation's greedy policy replayed with exact physics (its own greedy trial
-        where the learner's world is exact); a grounded table learns its moves."""
+        where the learner's world is exact). A grounded table learns its moves, and those of
+        ``explore`` trials of the generation's policy at the Boltzmann temperature."""
         if self.exact is None:
             return generation.greedy
-        trial = rollout(generation.policy, self.exact, steps=self.task.trial_steps)
+        steps, start = self.task.trial_steps, generation.space.postures[0]
+        greedy = generation.policy
+        if self.grounded is not None:  # exploring trials first: the greedy one is seen last
+            trials, temperature = self.explore
+            rng = np.random.default_rng([self.seed, generation.index])
+            policy = BoltzmannPolicy(greedy=greedy, temperature=temperature, rng=rng)
+            for _ in range(trials):
+                self.grounded.observe(rollout(policy, self.exact, steps=steps), start)
+        trial = rollout(greedy, self.exact, steps=steps)
         if self.grounded is not None:
-            self.grounded.observe(trial, generation.space.postures[0])
+            self.grounded.observe(trial, start)
         return trial
 
     def state(self) -> dict[str, np.ndarray]:
@@ -140,7 +156,23 @@ def build_world(formation: Formation, config: TrainingConfig, run: Path) -> Trai
         memo.load(run / MEMO_FILE)
     grounded = GroundedTransitions(base=memo) if config.ground_table else None
     provider = grounded if grounded is not None else memo
-    return TrainingWorld(provider, EnvWorld(env=env), grounded, task, None, layout)
+    learning = config.agent.learning
+    last = temperature(
+        learning.trials - 1,
+        learning.temperature_scale,
+        learning.temperature_rate,
+        learning.temperature_offset,
+    )
+    return TrainingWorld(
+        provider,
+        EnvWorld(env=env),
+        grounded,
+        task,
+        None,
+        layout,
+        explore=(config.explore_trials, last),
+        seed=config.seed,
+    )
 
 
 def exact_env(

@@ -46,25 +46,30 @@ def test_observed_moves_override_the_base_most_specific_first():
     t = table.transitions(P, P)
     assert t.dx[0, 1] == pytest.approx(0.1)
     assert t.dx[1, 2] == pytest.approx(0.3)  # mean over both contexts
-    assert t.dx[0, 2] == pytest.approx(0.01)  # never observed: the base
+    # Never observed: the base, less the RMS gap between observed and base forward moves.
+    gap = np.sqrt(np.mean(np.square([0.1 - 0.01, 0.3 - 0.01, 0.3 - 0.01])))
+    assert table.base_gap_m() == pytest.approx(gap)
+    assert t.dx[0, 2] == pytest.approx(0.01 - gap)
     in_context, row = t.row(0, 1)  # 1 entered from 0
     assert in_context is t.in_context and in_context.dx[row, 2] == pytest.approx(0.2)
     in_context, row = t.row(2, 1)
     assert in_context.dx[row, 2] == pytest.approx(0.4)
     in_context, row = t.row(0, 1)
-    assert in_context.dx[row, 0] == pytest.approx(0.01)  # the plain row where unobserved
+    assert in_context.dx[row, 0] == pytest.approx(0.01 - gap)  # the plain row where unobserved
     plain, row = t.row(1, 0)  # no observation after 1 -> 0
     assert plain is t and row == 0
 
 
-def test_a_move_observed_to_fail_more_often_than_not_fails():
+def test_a_move_fails_where_it_failed_in_context_and_by_majority_elsewhere():
     table = GroundedTransitions(base=_Base())
     table.observe(_trial([1, 2], [0.0, 0.1, 0.1], failed=True), P[0])
     assert table.transitions(P, P).failed[1, 2]
     table.observe(_trial([1, 2], [0.0, 0.1, 0.2]), P[0])
     table.observe(_trial([1, 2], [0.0, 0.1, 0.2]), P[0])
     t = table.transitions(P, P)
-    assert not t.failed[1, 2] and t.dx[1, 2] == pytest.approx(0.1)
+    assert not t.failed[1, 2] and t.dx[1, 2] == pytest.approx(0.1)  # 2 moves, 1 failure
+    in_context, row = t.row(0, 1)
+    assert in_context.failed[row, 2]  # it failed once after 0 -> 1
 
 
 def test_state_round_trips_and_refuses_another_body():
@@ -80,3 +85,15 @@ def test_state_round_trips_and_refuses_another_body():
     state["plain_keys"] = np.zeros((1, 4), dtype=np.int64)
     with pytest.raises(ValueError, match="do not fit"):
         copy.restore(state)
+
+
+def test_in_context_the_latest_move_holds_and_a_trial_start_is_a_context():
+    table = GroundedTransitions(base=_Base())
+    table.observe(_trial([1, 2], [0.0, 0.1, 0.3]), P[0])
+    table.observe(_trial([1, 2], [0.0, 0.2, 0.3]), P[0])
+    t = table.transitions(P, P)
+    assert t.dx[0, 1] == pytest.approx(0.15)  # any context: the mean
+    start, row = t.row(-1, 0)  # the trial's first move: the latest
+    assert start is t.in_context and start.dx[row, 1] == pytest.approx(0.2)
+    after, row = t.row(0, 1)
+    assert after.dx[row, 2] == pytest.approx(0.1)

@@ -110,8 +110,8 @@ def test_compiled_loop_python_loop_and_env_give_the_same_rewards():
 def _with_context(table: Transitions, gen: np.random.Generator) -> Transitions:
     """``table`` with random in-context rows for a third of the (h, i) pairs."""
     n, m = table.dx.shape
-    context = np.full((n, n), -1, dtype=np.int64)
-    chosen = np.flatnonzero(gen.random(n * n) < 1 / 3)
+    context = np.full((n + 1, n), -1, dtype=np.int64)
+    chosen = np.flatnonzero(gen.random((n + 1) * n) < 1 / 3)
     context.flat[chosen] = np.arange(len(chosen))
     rows = len(chosen)
     in_context = Transitions(

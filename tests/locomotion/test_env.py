@@ -7,7 +7,9 @@ import pytest
 from gymnasium.utils.env_checker import check_env
 
 from qdsega.description import Friction, load_formation
-from qdsega.locomotion.env import LocomotionEnv, TaskConfig
+from qdsega.locomotion.env import LocomotionEnv
+from qdsega.locomotion.reference_gaits import leg_gait
+from qdsega.task import TaskConfig
 
 
 def _wave(step: int, joints: int) -> np.ndarray:
@@ -117,3 +119,21 @@ def test_bad_action_is_refused(snake5):
     with pytest.raises(ValueError, match="not in"):
         env.step(np.array([9, 0, 0, 0]))
     env.close()
+
+
+def test_an_episode_after_a_fall_replays_exactly():
+    """A fall makes new contact pairs (the trunk on the ground); the next episode must not
+    depend on them (PhysicsSettings.deterministic_pairs)."""
+    legged = load_formation("assemblies/quadruped.yaml")
+    env = LocomotionEnv(formation=legged)
+    gait = leg_gait(legged, gait="wave", steps=4)
+    all_up = np.array(legged.rest_levels())
+    for leg in legged.legs:
+        all_up[legged.joint_index(leg.lift_joint)] = 1
+    episodes = []
+    for _ in range(2):
+        env.reset(seed=0)
+        episodes.append([env.step(p)[1] for p in gait] + [env.step(all_up)[1]])
+    env.close()
+    assert episodes[0][-1] == TaskConfig().penalty
+    assert episodes[0] == episodes[1]

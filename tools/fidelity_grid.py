@@ -1,0 +1,65 @@
+"""Train and evaluate formations x seeds with the README's presets, then print the tables.
+
+Usage: .venv/bin/python tools/fidelity_grid.py [--formations snake5 ...] [--seeds 0 1 2 3 4]
+                                               [--out runs/grid] [--workers 2]
+
+Each run goes to ``OUT/FORMATION-seedS`` in memo mode, with ``paper-snake`` for a legless
+formation and ``memo-legged`` for a legged one; a finished run is kept, an unfinished one
+resumed, a missing evaluation made. Then ``tools/formation_table.py``'s tables are printed and
+written to ``OUT/table.md``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import subprocess
+import sys
+from pathlib import Path
+
+from formation_table import tables
+
+from qdsega.description import load_formation, resolve_formation
+
+
+def preset_of(name: str) -> str:
+    """The README's preset for a shipped formation (or a formation file)."""
+    return "memo-legged" if load_formation(resolve_formation(Path(name))).legs else "paper-snake"
+
+
+def qdsega(*args: str | Path) -> None:
+    """Run ``qdsega ARGS``; stop the grid if it fails."""
+    command = [sys.executable, "-m", "qdsega.cli", *map(str, args)]
+    print("$", " ".join(command[2:]), flush=True)
+    subprocess.run(command, check=True)
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument(
+        "--formations", nargs="+", default=["snake5", "snake10", "quadruped", "hexapod", "legged12"]
+    )
+    parser.add_argument("--seeds", nargs="+", type=int, default=[0, 1, 2, 3, 4])
+    parser.add_argument("--out", type=Path, default=Path("runs/grid"))
+    parser.add_argument("--workers", type=int, default=2)
+    args = parser.parse_args()
+    folders = []
+    for name in args.formations:
+        for seed in args.seeds:
+            run = args.out / f"{Path(name).stem}-seed{seed}"
+            if not (run / "summary.json").is_file():
+                if (run / "config.yaml").is_file():
+                    qdsega("train", "--resume", run)
+                else:
+                    preset, workers = preset_of(name), str(args.workers)
+                    qdsega("train", name, "--sim", "memo", "--preset", preset, "--seed",
+                           str(seed), "--workers", workers, "--out", run)  # fmt: skip
+            if not (run / "evaluation.json").is_file():
+                qdsega("evaluate", run)
+            folders.append(run)
+    text = tables(folders)
+    (args.out / "table.md").write_text(text + "\n", encoding="utf-8")
+    print(text)
+
+
+if __name__ == "__main__":
+    main()
