@@ -17,8 +17,6 @@ made them or in which order.
 
 from __future__ import annotations
 
-import multiprocessing
-import signal
 from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 
@@ -29,6 +27,7 @@ from qdsega.assembly import assemble
 from qdsega.atomic import replaced_atomically
 from qdsega.description import Formation
 from qdsega.locomotion.lower_agent import LowerAgent, LowerAgentConfig
+from qdsega.parallel import worker_pool
 from qdsega.simulation import PhysicsSettings
 from qdsega.simulation.bullet import BulletSimulation
 from qdsega.task import relative_move
@@ -142,10 +141,7 @@ class MeasuredTransitions:
             results = [_measure_from(*job) for job in jobs]
         else:
             if self._pool is None:
-                context = multiprocessing.get_context("spawn")
-                self._pool = ProcessPoolExecutor(
-                    self.workers, mp_context=context, initializer=_init_pool_worker, initargs=args
-                )
+                self._pool = worker_pool(self.workers, _init_worker, args)
             results = list(self._pool.map(_measure_from, *zip(*jobs, strict=True)))
         for (source, missing), rows in zip(jobs, results, strict=True):
             for target, row in zip(missing, rows, strict=True):
@@ -180,14 +176,6 @@ def _init_worker(
     global _bench
     if _bench is None or _bench.formation is not formation:
         _bench = _Bench(formation, lower_agent, physics)
-
-
-def _init_pool_worker(
-    formation: Formation, lower_agent: LowerAgentConfig, physics: PhysicsSettings
-) -> None:
-    """A worker process leaves Ctrl-C to its parent, which stops the pool."""
-    signal.signal(signal.SIGINT, signal.SIG_IGN)
-    _init_worker(formation, lower_agent, physics)
 
 
 def _measure_from(source: np.ndarray, targets: np.ndarray) -> np.ndarray:
