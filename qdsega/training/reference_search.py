@@ -1,0 +1,490 @@
+"""A reference gait that is hard to beat, for any formation: a CPG gait searched by CMA-ES.
+
+The gait (:class:`qdsega.locomotion.cpg.CPGGait`) has an offset, an amplitude and a phase per
+joint and one period of ``PERIODS`` upper-agent steps. CMA-ES (the ``cma`` package, ask and
+tell) searches them in exact physics: every candidate is one trial in the
+:class:`qdsega.locomotion.env.LocomotionEnv` learning and evaluation use (same levels, lower
+agent, step duration, trial length and physics settings), scored by the distance it covers
+toward the light. Each CMA-ES generation is spread over worker processes; every trial runs in
+a new env, so the result depends on the seed only, not on the number of workers or on which
+worker ran which trial.
+
+The search space is the unit box: ``[0, 1]^(3J)`` for the oscillators
+(:meth:`CPGGait.from_unit`, phases wrap around) and one more coordinate for the period, cut
+into equal bins, one per period. A trial whose lower agent fails ranks below every trial that
+completes (failed ones among themselves by how many steps they completed), and the reference
+is the best trial that completed.
+
+A search costs minutes, so its result is kept as one JSON file per key, the SHA-256 of a
+canonical JSON of everything the result depends on: the assembled robot (URDF text, mesh
+files, joints, levels, friction, legs, start posture), the light, the task, lower agent and
+physics settings, the PyBullet version and the search settings. Look-up order: the references
+shipped in ``qdsega/references/``, then the user cache (``$QDSEGA_CACHE/references``, default
+``~/.cache/qdsega/references``); else the search runs and its result goes to the user cache.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import hashlib
+import importlib.metadata
+import json
+import math
+import multiprocessing
+import os
+import signal
+import sys
+import time
+from concurrent.futures import ProcessPoolExecutor
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import cma
+import numpy as np
+
+from qdsega.assembly import assemble
+from qdsega.atomic import replaced_atomically
+from qdsega.description import Formation
+from qdsega.locomotion.cpg import CPGGait
+from qdsega.locomotion.env import LocomotionEnv, TaskConfig
+from qdsega.locomotion.lower_agent import LowerAgentConfig
+from qdsega.simulation import PhysicsSettings
+
+FORMAT_VERSION = 1
+"""Part of every key; bump it when a change of the search or the simulation changes results."""
+
+PERIODS = (3, 4, 5, 6, 7, 8)
+"""Periods the search chooses from (upper-agent steps)."""
+
+DEFAULT_BUDGET_TRIALS = 600
+"""Trials (CMA-ES candidates) per search."""
+
+SIGMA0 = 0.3
+"""Initial CMA-ES step size in the unit box (-)."""
+
+FAILED_COST = 1000.0
+"""Cost of a failed trial, above the cost ``-distance`` of any completed one (m)."""
+
+SHIPPED_DIR = Path(__file__).resolve().parent.parent / "references"
+"""References computed at the default budget and shipped with the package."""
+
+
+@dataclass(frozen=True, kw_only=True, eq=False)
+class ReferenceGait:
+    """The best gait a search found.
+
+    Attributes:
+        kind: what kind of gait (``cpg``).
+        params: the gait's parameters.
+        postures: its postures, one trial long, shape (trial_steps, J) (level indices).
+        distance_m: distance toward the light it covers in one trial (m); it does not fail.
+        budget_trials: trials the search was allowed (-).
+        budget_steps: upper-agent steps those trials hold (-).
+        evaluations: trials the search ran (-); at most ``budget_trials``.
+        wall_s: wall-clock time of the search (s).
+        history_m: the best distance so far after each CMA-ES iteration (m); None before a
+            trial completed.
+        key: the content hash the result is cached under.
+        file: the cache file it was read from or written to; None when not cached.
+    """
+
+    kind: str
+    params: CPGGait
+    postures: np.ndarray
+    distance_m: float
+    budget_trials: int
+    budget_steps: int
+    evaluations: int
+    wall_s: float
+    history_m: tuple[float | None, ...]
+    key: str
+    file: Path | None
+
+
+def reference_gait(
+    formation: Formation,
+    *,
+    task: TaskConfig,
+    lower_agent: LowerAgentConfig,
+    physics: PhysicsSettings,
+    budget_trials: int = DEFAULT_BUDGET_TRIALS,
+    seed: int = 0,
+    workers: int = 2,
+    cache: bool = True,
+) -> ReferenceGait:
+    """The CMA-ES reference gait of ``formation`` under these rules: cached, else searched.
+
+    Args:
+        formation: the robot and its light.
+        task: trial length (``trial_steps`` upper-agent steps).
+        lower_agent: how postures are executed and when that fails.
+        physics: engine settings.
+        budget_trials: trials the search may run (-).
+        seed: seed of the search's random generator.
+        workers: processes simulating trials in parallel (1 simulates in this process).
+        cache: look the result up and store it (see the module docstring).
+
+    Raises:
+        ValueError: bad settings, a formation the lower agent cannot drive, or no trial
+            within the budget that completed without failing.
+    """
+    if workers < 1:
+        raise ValueError(f"workers must be at least 1, got {workers}")
+    lower_agent.check_formation(formation)
+    popsize = _popsize(formation)
+    if budget_trials < popsize:
+        raise ValueError(
+            f"budget_trials must hold at least one CMA-ES generation ({popsize} trials for "
+            f"{formation.name}), got {budget_trials}"
+        )
+    inputs = _key_inputs(formation, task, lower_agent, physics, budget_trials, seed)
+    key = _hash(inputs)
+    name = f"{formation.name}-{key[:16]}.json"
+    if cache:
+        for folder in (SHIPPED_DIR, user_cache_dir()):
+            found = _read(folder / name, key, formation)
+            if found is not None:
+                return found
+    start = time.perf_counter()
+    gait, distance, evaluations, history = _search(
+        formation, task, lower_agent, physics, budget_trials, seed, workers
+    )
+    postures = gait.postures(formation, steps=task.trial_steps)
+    postures.setflags(write=False)
+    result = ReferenceGait(
+        kind="cpg",
+        params=gait,
+        postures=postures,
+        distance_m=distance,
+        budget_trials=budget_trials,
+        budget_steps=budget_trials * task.trial_steps,
+        evaluations=evaluations,
+        wall_s=time.perf_counter() - start,
+        history_m=tuple(history),
+        key=key,
+        file=user_cache_dir() / name if cache else None,
+    )
+    if result.file is not None:
+        _write(result, inputs)
+    return result
+
+
+def reference_key(
+    formation: Formation,
+    *,
+    task: TaskConfig,
+    lower_agent: LowerAgentConfig,
+    physics: PhysicsSettings,
+    budget_trials: int = DEFAULT_BUDGET_TRIALS,
+    seed: int = 0,
+) -> str:
+    """The cache key (64 hex digits) of :func:`reference_gait` with these arguments."""
+    return _hash(_key_inputs(formation, task, lower_agent, physics, budget_trials, seed))
+
+
+def user_cache_dir() -> Path:
+    """Where computed references are kept: ``$QDSEGA_CACHE/references``, default
+    ``~/.cache/qdsega/references``."""
+    root = os.environ.get("QDSEGA_CACHE")
+    return (Path(root) if root else Path.home() / ".cache" / "qdsega") / "references"
+
+
+# -- the rules: the one place that builds the env and describes it -----------------------------
+
+
+def _env(
+    formation: Formation,
+    task: TaskConfig,
+    lower_agent: LowerAgentConfig,
+    physics: PhysicsSettings,
+) -> LocomotionEnv:
+    """The env of learning and evaluation, with ``lower_agent`` executing the postures."""
+    return LocomotionEnv(
+        formation=formation,
+        task=dataclasses.replace(task, lower_agent=lower_agent),
+        physics=physics,
+    )
+
+
+def _rules(task: TaskConfig, lower_agent: LowerAgentConfig, physics: PhysicsSettings) -> dict:
+    """The settings :func:`_env` depends on, as plain types."""
+    task_fields = dataclasses.asdict(task)
+    del task_fields["lower_agent"]  # the env runs ``lower_agent``, not the task's own
+    return {
+        "task": task_fields,
+        "lower_agent": dataclasses.asdict(lower_agent),
+        "physics": dataclasses.asdict(physics),
+    }
+
+
+# -- the key -----------------------------------------------------------------------------------
+
+
+def _key_inputs(
+    formation: Formation,
+    task: TaskConfig,
+    lower_agent: LowerAgentConfig,
+    physics: PhysicsSettings,
+    budget_trials: int,
+    seed: int,
+) -> dict[str, Any]:
+    """Everything the search's result depends on, as plain types (the URDF as text)."""
+    robot = assemble(formation)
+    return {
+        "format": FORMAT_VERSION,
+        "formation": formation.name,
+        "urdf": robot.urdf,
+        "assets_sha256": {
+            name: hashlib.sha256(path.read_bytes()).hexdigest()
+            for name, path in sorted(robot.assets.items())
+        },
+        "joints": [
+            {
+                "name": joint.name,
+                "levels_rad": list(joint.levels_rad),
+                "effort_nm": joint.spec.effort_nm,
+                "velocity_rad_s": joint.spec.velocity_rad_s,
+            }
+            for joint in formation.joints
+        ],
+        "friction": {
+            unit.name: [unit.friction.lateral, *unit.friction.anisotropic]
+            for unit in formation.units
+        },
+        "legs": [dataclasses.asdict(leg) for leg in formation.legs],
+        "start_levels": list(formation.rest_levels()),
+        "light_m": list(formation.light.position_m),
+        **_rules(task, lower_agent, physics),
+        "pybullet": importlib.metadata.version("pybullet"),
+        "search": {
+            "budget_trials": budget_trials,
+            "seed": seed,
+            "periods": list(PERIODS),
+            "sigma0": SIGMA0,
+        },
+    }
+
+
+def _hash(inputs: dict[str, Any]) -> str:
+    text = json.dumps(inputs, sort_keys=True, separators=(",", ":"), allow_nan=False)
+    return hashlib.sha256(text.encode("utf-8")).hexdigest()
+
+
+# -- the cache file ----------------------------------------------------------------------------
+
+
+def _write(result: ReferenceGait, inputs: dict[str, Any]) -> None:
+    """Store ``result`` in ``result.file`` atomically, with a summary of its key's inputs."""
+    assert result.file is not None
+    summary = {k: v for k, v in inputs.items() if k != "urdf"}
+    summary["urdf_sha256"] = hashlib.sha256(inputs["urdf"].encode("utf-8")).hexdigest()
+    data = {
+        "key": result.key,
+        "inputs": summary,
+        "kind": result.kind,
+        "params": result.params.to_dict(),
+        "postures": result.postures.tolist(),
+        "distance_m": result.distance_m,
+        "budget_trials": result.budget_trials,
+        "budget_steps": result.budget_steps,
+        "evaluations": result.evaluations,
+        "wall_s": result.wall_s,
+        "history_m": list(result.history_m),
+    }
+    result.file.parent.mkdir(parents=True, exist_ok=True)
+    with replaced_atomically(result.file) as partial:
+        partial.write_text(json.dumps(data, indent=1) + "\n", encoding="utf-8")
+
+
+def _read(file: Path, key: str, formation: Formation) -> ReferenceGait | None:
+    """The result stored in ``file`` under ``key``; None when there is none. A file that does
+    not hold a consistent result is ignored with a one-line warning."""
+    if not file.is_file():
+        return None
+    try:
+        data = json.loads(file.read_text(encoding="utf-8"))
+        if data["key"] != key:
+            raise ValueError("it holds another key")
+        params = CPGGait.from_dict(data["params"])
+        postures = np.array(data["postures"], dtype=np.int64)
+        steps = len(postures)
+        if steps < 1 or not np.array_equal(postures, params.postures(formation, steps=steps)):
+            raise ValueError("its postures are not its gait's")
+        postures.setflags(write=False)
+        return ReferenceGait(
+            kind=str(data["kind"]),
+            params=params,
+            postures=postures,
+            distance_m=float(data["distance_m"]),
+            budget_trials=int(data["budget_trials"]),
+            budget_steps=int(data["budget_steps"]),
+            evaluations=int(data["evaluations"]),
+            wall_s=float(data["wall_s"]),
+            history_m=tuple(None if d is None else float(d) for d in data["history_m"]),
+            key=key,
+            file=file,
+        )
+    except (OSError, ValueError, KeyError, TypeError) as exc:
+        print(f"qdsega: warning: ignoring corrupt reference {file} ({exc})", file=sys.stderr)
+        return None
+
+
+# -- the search --------------------------------------------------------------------------------
+
+
+def _popsize(formation: Formation) -> int:
+    """CMA-ES's default population for the search's dimension, 4 + floor(3 ln n)."""
+    return 4 + int(3 * math.log(3 * len(formation.joints) + 1))
+
+
+def _gait(formation: Formation, x: np.ndarray) -> CPGGait:
+    """The gait at a CMA-ES point ``x``, shape (3J + 1,): unit-box oscillators (phases wrap
+    around), then the period's coordinate in [0, 1]."""
+    n = len(formation.joints)
+    unit = np.concatenate([x[: 2 * n], np.mod(x[2 * n : 3 * n], 1.0)])
+    period = PERIODS[min(int(x[-1] * len(PERIODS)), len(PERIODS) - 1)]
+    return CPGGait.from_unit(formation, unit, period_steps=period)
+
+
+def _search(
+    formation: Formation,
+    task: TaskConfig,
+    lower_agent: LowerAgentConfig,
+    physics: PhysicsSettings,
+    budget_trials: int,
+    seed: int,
+    workers: int,
+) -> tuple[CPGGait, float, int, list[float | None]]:
+    """CMA-ES over whole generations within the budget; when CMA-ES stops (every candidate
+    the same gait), it restarts from a random point with what is left of the budget.
+
+    Returns:
+        the best completed gait, its distance (m), trials run, best distance per iteration.
+    """
+    n = len(formation.joints)
+    rng = np.random.default_rng(seed)
+    steps = task.trial_steps
+    unbounded = [None] * n  # phases wrap around
+    options = {
+        "bounds": [[0.0] * (2 * n) + unbounded + [0.0], [1.0] * (2 * n) + unbounded + [1.0]],
+        "popsize": _popsize(formation),
+        "randn": lambda *shape: rng.standard_normal(shape),
+        "seed": math.nan,  # cma then leaves numpy's global generator alone
+        "verbose": -9,
+        "verb_log": 0,
+        "verb_disp": 0,
+    }
+    mean = np.full(3 * n + 1, 0.5)
+    es = cma.CMAEvolutionStrategy(mean, SIGMA0, options)
+    best: tuple[float, CPGGait] | None = None
+    history: list[float | None] = []
+    evaluations = 0
+    with _Trials(formation, task, lower_agent, physics, workers) as trials:
+        while evaluations + es.popsize <= budget_trials:
+            if es.stop():
+                es = cma.CMAEvolutionStrategy(rng.uniform(size=3 * n + 1), SIGMA0, options)
+            points = es.ask()
+            gaits = [_gait(formation, np.asarray(x)) for x in points]
+            outcomes = trials.run([g.postures(formation, steps=steps) for g in gaits])
+            costs = []
+            for gait, (distance, completed, failed) in zip(gaits, outcomes, strict=True):
+                if failed:
+                    costs.append(FAILED_COST + (steps - completed) / steps)
+                    continue
+                costs.append(-distance)
+                if best is None or distance > best[0]:
+                    best = (distance, gait)
+            es.tell(points, costs)
+            evaluations += len(points)
+            history.append(None if best is None else best[0])
+    if best is None:
+        raise ValueError(
+            f"{formation.name}: none of {evaluations} trials completed without the lower agent "
+            "failing"
+        )
+    return best[1], best[0], evaluations, history
+
+
+class _Trials:
+    """Runs trials in this process, or spread over worker processes (spawn) that each receive
+    the rules once."""
+
+    def __init__(
+        self,
+        formation: Formation,
+        task: TaskConfig,
+        lower_agent: LowerAgentConfig,
+        physics: PhysicsSettings,
+        workers: int,
+    ) -> None:
+        self._rules = (formation, task, lower_agent, physics)
+        self._pool: ProcessPoolExecutor | None = None
+        if workers > 1:
+            context = multiprocessing.get_context("spawn")
+            self._pool = ProcessPoolExecutor(
+                workers, mp_context=context, initializer=_init_worker, initargs=self._rules
+            )
+
+    def __enter__(self) -> _Trials:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        if self._pool is not None:
+            self._pool.shutdown(cancel_futures=True)
+
+    def run(self, postures: list[np.ndarray]) -> list[tuple[float, int, bool]]:
+        """Each posture sequence (steps, J) as one trial: (distance m, steps completed,
+        failed), in order."""
+        if self._pool is None:
+            return [_trial(*self._rules, p) for p in postures]
+        return list(self._pool.map(_trial_in_worker, postures))
+
+
+def _trial(
+    formation: Formation,
+    task: TaskConfig,
+    lower_agent: LowerAgentConfig,
+    physics: PhysicsSettings,
+    postures: np.ndarray,
+) -> tuple[float, int, bool]:
+    """One trial in a new env: (distance toward the light m, steps completed, failed).
+
+    A new env, not a reset one: PyBullet's state restore keeps the order of the contact
+    pairs of earlier trials, and a legged body's trial then depends on what ran before it
+    in the same world (by up to millimetres, sometimes failed or not). Building the env costs
+    about 10% of a snake5 trial of 30 steps."""
+    env = _env(formation, task, lower_agent, physics)
+    try:
+        env.reset(seed=0)
+        completed = 0
+        for posture in postures:
+            _, _, terminated, truncated, info = env.step(posture)
+            if terminated:
+                return float(info["distance_covered_m"]), completed, True
+            completed += 1
+            if truncated:
+                break
+        return float(env.distance_covered()), completed, False
+    finally:
+        env.close()
+
+
+_worker_rules: tuple[Formation, TaskConfig, LowerAgentConfig, PhysicsSettings] | None = None
+
+
+def _init_worker(
+    formation: Formation,
+    task: TaskConfig,
+    lower_agent: LowerAgentConfig,
+    physics: PhysicsSettings,
+) -> None:
+    """A worker keeps the rules, and leaves Ctrl-C to its parent, which stops the pool."""
+    global _worker_rules
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    _worker_rules = (formation, task, lower_agent, physics)
+
+
+def _trial_in_worker(postures: np.ndarray) -> tuple[float, int, bool]:
+    assert _worker_rules is not None, "worker not initialised"
+    return _trial(*_worker_rules, postures)

@@ -1,0 +1,210 @@
+import dataclasses
+import json
+import math
+
+import numpy as np
+import pytest
+
+from qdsega import ASSEMBLIES_DIR
+from qdsega.description import Light, load_formation
+from qdsega.locomotion.cpg import CPGGait
+from qdsega.locomotion.env import LocomotionEnv, TaskConfig
+from qdsega.locomotion.lower_agent import LowerAgentConfig
+from qdsega.simulation import PhysicsSettings
+from qdsega.training import reference_search
+from qdsega.training.reference_search import reference_gait, reference_key
+
+SNAKE = load_formation(ASSEMBLIES_DIR / "snake5.yaml")
+STEPS = 6
+RULES = {
+    "task": TaskConfig(trial_steps=STEPS),
+    "lower_agent": LowerAgentConfig(),
+    "physics": PhysicsSettings(),
+}
+ONE_GENERATION = 11  # CMA-ES's population for snake5's 13 coordinates
+QUICK = RULES | {"task": TaskConfig(trial_steps=2)}  # for the cache: any result will do
+
+
+@pytest.fixture(autouse=True)
+def user_cache(tmp_path, monkeypatch):
+    """Every test gets an empty user cache and no shipped references."""
+    monkeypatch.setenv("QDSEGA_CACHE", str(tmp_path / "cache"))
+    monkeypatch.setattr(reference_search, "SHIPPED_DIR", tmp_path / "shipped")
+    return tmp_path / "cache" / "references"
+
+
+@pytest.fixture
+def searches(monkeypatch):
+    """Counts the searches that run."""
+    calls = []
+    search = reference_search._search
+
+    def counted(*args):
+        calls.append(args)
+        return search(*args)
+
+    monkeypatch.setattr(reference_search, "_search", counted)
+    return calls
+
+
+def _replay(formation, postures, task=RULES["task"]):
+    """Distance (m) and failure of a posture sequence in the env learning uses."""
+    env = LocomotionEnv(formation=formation, task=task)
+    try:
+        env.reset(seed=0)
+        for posture in postures:
+            _, _, terminated, truncated, info = env.step(posture)
+            if terminated:
+                return info["distance_covered_m"], info["failure"]
+            if truncated:
+                break
+        return env.distance_covered(), None
+    finally:
+        env.close()
+
+
+def test_the_search_beats_a_bad_gait_and_depends_on_the_seed_only(searches):
+    result = reference_gait(SNAKE, **RULES, budget_trials=3 * ONE_GENERATION, workers=2)
+    # Bad gaits: standing still, and a standing wave (every joint in phase) that goes nowhere.
+    n = len(SNAKE.joints)
+    standing_wave = CPGGait(
+        amplitude_rad=(math.radians(20),) * n,
+        offset_rad=(0.0,) * n,
+        phase_rad=(0.0,) * n,
+        period_steps=4,
+    )
+    rest = np.tile(SNAKE.rest_levels(), (STEPS, 1))
+    bad = max(
+        _replay(SNAKE, standing_wave.postures(SNAKE, steps=STEPS))[0], _replay(SNAKE, rest)[0]
+    )
+    distance, failure = _replay(SNAKE, result.postures)
+    assert failure is None
+    assert distance == pytest.approx(result.distance_m, abs=1e-9)
+    assert result.distance_m > bad + 0.02
+    assert result.postures.shape == (STEPS, n)
+    assert result.evaluations == 3 * ONE_GENERATION
+    assert result.budget_steps == 3 * ONE_GENERATION * STEPS
+    assert len(result.history_m) == 3
+    assert list(result.history_m) == sorted(result.history_m)
+    assert result.history_m[-1] == result.distance_m
+    # One worker, no cache: the same gait, trial for trial.
+    again = reference_gait(SNAKE, **RULES, budget_trials=3 * ONE_GENERATION, workers=1, cache=False)
+    assert again.params == result.params and again.history_m == result.history_m
+    assert again.file is None
+    other = reference_gait(
+        SNAKE, **RULES, budget_trials=ONE_GENERATION, seed=1, workers=1, cache=False
+    )
+    assert other.history_m[0] != result.history_m[0]  # another seed, another first generation
+    assert len(searches) == 3
+
+
+def test_a_legged_reference_never_fails():
+    quadruped = load_formation(ASSEMBLIES_DIR / "quadruped.yaml")
+    result = reference_gait(quadruped, **RULES, budget_trials=13, workers=1, cache=False)
+    distance, failure = _replay(quadruped, result.postures)
+    assert failure is None
+    assert distance == pytest.approx(result.distance_m, abs=1e-9)
+
+
+def test_the_key_changes_with_every_input_and_nothing_else(write_formation, monkeypatch):
+    text = (ASSEMBLIES_DIR / "snake5.yaml").read_text(encoding="utf-8")
+    base = reference_key(SNAKE, **RULES)
+    assert len(base) == 64
+    assert reference_key(load_formation(write_formation(text, "copy")), **RULES) == base
+    assert (
+        reference_key(SNAKE, **RULES, budget_trials=reference_search.DEFAULT_BUDGET_TRIALS) == base
+    )
+
+    def key(formation=SNAKE, **change):
+        return reference_key(formation, **(RULES | change))
+
+    variants = {
+        "levels": key(load_formation(write_formation(text.replace("step: 5", "step: 10"), "a"))),
+        "friction": key(load_formation(write_formation(text.replace("0.8", "0.7"), "b"))),
+        "mass": key(
+            load_formation(write_formation(text.replace("unit: servo", "unit: hub", 1), "c"))
+        ),
+        "light": key(SNAKE.with_light(Light(distance_m=50.0, bearing_rad=0.5))),
+        "trial steps": key(task=TaskConfig(trial_steps=STEPS + 1)),
+        "step duration": key(lower_agent=LowerAgentConfig(step_duration_s=0.4)),
+        "physics": key(physics=PhysicsSettings(solver_iterations=40)),
+        "budget": key(budget_trials=100),
+        "seed": key(seed=1),
+    }
+    with monkeypatch.context() as patch:
+        patch.setattr(reference_search, "PERIODS", (4, 5))
+        variants["periods"] = key()
+    with monkeypatch.context() as patch:
+        patch.setattr(reference_search, "FORMAT_VERSION", reference_search.FORMAT_VERSION + 1)
+        variants["format"] = key()
+    assert base not in variants.values()
+    assert len(set(variants.values())) == len(variants)
+
+
+def test_a_cached_result_is_reused_without_simulating(searches, user_cache):
+    first = reference_gait(SNAKE, **QUICK, budget_trials=ONE_GENERATION, workers=1)
+    assert first.file is not None and first.file.parent == user_cache
+    stored = json.loads(first.file.read_text(encoding="utf-8"))
+    assert stored["key"] == first.key
+    assert stored["inputs"]["task"]["trial_steps"] == 2
+    assert stored["inputs"]["search"]["budget_trials"] == ONE_GENERATION
+    assert stored["postures"] == first.postures.tolist()
+    second = reference_gait(SNAKE, **QUICK, budget_trials=ONE_GENERATION, workers=2)
+    assert len(searches) == 1
+    for field in dataclasses.fields(first):
+        a, b = getattr(first, field.name), getattr(second, field.name)
+        assert np.array_equal(a, b) if isinstance(a, np.ndarray) else a == b, field.name
+
+
+def test_a_shipped_reference_comes_before_the_user_cache(searches, user_cache, tmp_path):
+    first = reference_gait(SNAKE, **QUICK, budget_trials=ONE_GENERATION, workers=1)
+    shipped = tmp_path / "shipped"
+    shipped.mkdir()
+    (shipped / first.file.name).write_bytes(first.file.read_bytes())
+    first.file.unlink()
+    found = reference_gait(SNAKE, **QUICK, budget_trials=ONE_GENERATION, workers=1)
+    assert found.file == shipped / first.file.name
+    assert found.params == first.params
+    assert len(searches) == 1
+
+
+@pytest.mark.parametrize(
+    "spoil",
+    [
+        lambda text: text[: len(text) // 2],
+        lambda text: text.replace('"postures": [', '"postures": [[0, 0, 0, 0], ', 1),
+        lambda text: text.replace('"key": "', '"key": "0', 1),
+    ],
+    ids=["truncated", "postures not the gait's", "another key"],
+)
+def test_a_corrupt_cache_file_is_recomputed(searches, capsys, spoil):
+    first = reference_gait(SNAKE, **QUICK, budget_trials=ONE_GENERATION, workers=1)
+    first.file.write_text(spoil(first.file.read_text(encoding="utf-8")), encoding="utf-8")
+    capsys.readouterr()
+    second = reference_gait(SNAKE, **QUICK, budget_trials=ONE_GENERATION, workers=1)
+    warning = capsys.readouterr().err
+    assert warning.count("\n") == 1 and "corrupt reference" in warning
+    assert str(first.file) in warning
+    assert len(searches) == 2
+    assert second.params == first.params
+    reference_gait(SNAKE, **QUICK, budget_trials=ONE_GENERATION, workers=1)  # rewritten whole
+    assert len(searches) == 2
+
+
+def test_bad_settings_are_refused():
+    with pytest.raises(ValueError, match="one CMA-ES generation"):
+        reference_gait(SNAKE, **RULES, budget_trials=ONE_GENERATION - 1)
+    with pytest.raises(ValueError, match="workers"):
+        reference_gait(SNAKE, **RULES, workers=0)
+
+
+def test_no_completed_trial_is_an_error():
+    blocked = LowerAgentConfig(tolerance_rad=1e-9)  # no joint ever reaches its level so closely
+    with pytest.raises(ValueError, match="completed"):
+        reference_gait(
+            SNAKE,
+            **(QUICK | {"lower_agent": blocked}),
+            budget_trials=ONE_GENERATION,
+            workers=1,
+            cache=False,
+        )
