@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import os
 import shutil
 import textwrap
 from collections.abc import Callable
@@ -37,3 +38,10 @@ def cli() -> Callable[..., object]:
     from helpers import run_cli
 
     return run_cli
+
+
+@pytest.fixture(autouse=True, scope="session")
+def _reference_cache(tmp_path_factory: pytest.TempPathFactory) -> None:
+    """Searched reference gaits go to a scratch cache, not the user's (subprocesses inherit
+    it through the environment)."""
+    os.environ["QDSEGA_CACHE"] = str(tmp_path_factory.mktemp("qdsega-cache"))

@@ -31,6 +31,7 @@ from __future__ import annotations
 import math
 import warnings
 from collections.abc import Callable
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -185,3 +186,32 @@ class LocomotionEnv(gym.Env[np.ndarray, np.ndarray]):
             "heading_rad": self._pose[2],
             "distance_covered_m": self.distance_covered(),
         }
+
+
+@dataclass(frozen=True)
+class Replay:
+    """A fixed posture sequence played from the start of an episode.
+
+    Attributes:
+        distance_m: distance toward the light covered (m).
+        completed: postures reached before the sequence ended or the lower agent failed.
+        failure: why the lower agent failed, or None.
+    """
+
+    distance_m: float
+    completed: int
+    failure: str | None
+
+
+def replay_postures(env: LocomotionEnv, postures: np.ndarray) -> Replay:
+    """Play ``postures`` (steps, J) of level indices from a reset, at most one episode."""
+    env.reset(seed=0)
+    completed = 0
+    for posture in postures:
+        _, _, terminated, truncated, info = env.step(posture)
+        if terminated:
+            return Replay(env.distance_covered(), completed, info["failure"])
+        completed += 1
+        if truncated:
+            break
+    return Replay(env.distance_covered(), completed, None)

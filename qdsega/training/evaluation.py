@@ -6,11 +6,16 @@
   every step simulated in PyBullet (same lower agent, step duration and trial length as in
   training); ``failure`` says why the trial ended early, if it did;
 * ``memo_prediction_m``: what the memo table predicted for that policy (memo runs);
-* ``reference``: the best reference gait under the same rules and its distance: for a snake,
-  the best serpenoid wave of a grid over amplitude, phase lag and steps per cycle, snapped to
-  the joint levels; for a legged body, the best of the classic gaits in the paper's four leg
-  states (:mod:`qdsega.locomotion.reference_gaits`);
-* ``ratio``: ``distance_m / reference.distance_m``;
+* ``references``: reference gaits under the same rules (levels, lower agent, step duration,
+  trial length, physics), each with its kind, parameters and distance (m): the best
+  hand-designed one (for a snake, the best serpenoid wave of a grid over amplitude, phase lag
+  and steps per cycle, snapped to the joint levels; for a legged body, the best of the classic
+  gaits in the paper's four leg states, :mod:`qdsega.locomotion.reference_gaits`), and a CPG
+  gait CMA-ES found in a budget of exact trials (stated in trials and steps;
+  :mod:`qdsega.training.reference_search`, cached by content hash); a gait that fails counts
+  0 m;
+* ``reference``: the best of them (which one won is its ``kind``);
+* ``ratio``: ``distance_m / reference.distance_m`` (None when every reference is 0 m);
 * ``postures``: the commanded postures (level indices), step by step;
 * ``unit_xy_m``: every unit's centre of mass (x, y) (m) at the start and after each step,
   shape (steps + 1, units, 2): the body's shape over the trial (the snake pose strip);
@@ -21,7 +26,6 @@
 from __future__ import annotations
 
 import json
-import math
 from pathlib import Path
 from typing import Any
 
@@ -32,10 +36,11 @@ from qdsega.atomic import replaced_atomically
 from qdsega.description import Formation
 from qdsega.errors import FormationError
 from qdsega.locomotion import reference_gaits
-from qdsega.locomotion.env import LocomotionEnv
+from qdsega.locomotion.env import LocomotionEnv, replay_postures
 from qdsega.locomotion.env_world import EnvWorld
 from qdsega.training.config import TrainingConfig, read_run_config
 from qdsega.training.formation_copy import load_run_formation
+from qdsega.training.reference_search import DEFAULT_BUDGET_TRIALS, reference_gait
 from qdsega.training.run_folder import (
     EVALUATION_FILE,
     POLICY_FILE,
@@ -45,11 +50,18 @@ from qdsega.training.run_folder import (
 from qdsega.training.worlds import exact_env
 
 
-def evaluate_run(run: Path | str) -> dict[str, Any]:
+def evaluate_run(
+    run: Path | str, *, reference_trials: int = DEFAULT_BUDGET_TRIALS
+) -> dict[str, Any]:
     """Replay the run's greedy policy and the reference gaits; write ``evaluation.json``.
 
+    Args:
+        run: the run folder.
+        reference_trials: the CMA-ES reference search's budget in trials (0: no search).
+
     Raises:
-        FormationError: missing or corrupt run folder.
+        FormationError: missing or corrupt run folder; a search budget below one CMA-ES
+            generation.
     """
     run = Path(run)
     summary, config, policy = load_run(run)
@@ -57,9 +69,12 @@ def evaluate_run(run: Path | str) -> dict[str, Any]:
     env = exact_env(formation, config)
     try:
         learned = replay_policy(env, policy)
-        reference = best_reference(env, formation, config.task.trial_steps)
+        candidates = [classic_reference(env, formation)]
+        if reference_trials > 0:
+            candidates.append(searched_reference(env, formation, config, trials=reference_trials))
     finally:
         env.close()
+    reference = max(candidates, key=lambda c: c["distance_m"])
     result: dict[str, Any] = {
         "formation": formation.name,
         "sim": config.sim,
@@ -67,6 +82,7 @@ def evaluate_run(run: Path | str) -> dict[str, Any]:
         "failure": learned["failure"],
         "memo_prediction_m": summary["greedy_distance"] if config.sim == "memo" else None,
         "reference": reference,
+        "references": candidates,
         "ratio": learned["distance_m"] / reference["distance_m"]
         if reference["distance_m"] > 0
         else None,
@@ -102,21 +118,10 @@ def _unit_xy(env: LocomotionEnv) -> list[list[float]]:
     return centres[:, :2].round(4).tolist()
 
 
-def replay_postures(env: LocomotionEnv, postures: np.ndarray) -> tuple[float, str | None]:
-    """Distance toward the light (m) covered by a fixed posture sequence, and any failure."""
-    env.reset(seed=0)
-    info: dict[str, Any] = {"distance_covered_m": 0.0}
-    for posture in postures:
-        _, _, terminated, truncated, info = env.step(posture)
-        if terminated:
-            return info["distance_covered_m"], info["failure"]
-        if truncated:
-            break
-    return info["distance_covered_m"], None
-
-
-def best_reference(env: LocomotionEnv, formation: Formation, steps: int) -> dict[str, Any]:
-    """The best reference gait for ``formation`` under ``env``'s rules."""
+def classic_reference(env: LocomotionEnv, formation: Formation) -> dict[str, Any]:
+    """The best hand-designed gait for ``formation`` under ``env``'s rules: the serpenoid grid
+    for a legless body, the classic leg gaits for a legged one; 0 m when every one fails."""
+    steps = env.task.trial_steps
     if formation.legs:
         candidates = [
             ({"gait": gait}, reference_gaits.leg_gait(formation, gait=gait, steps=steps))
@@ -126,14 +131,39 @@ def best_reference(env: LocomotionEnv, formation: Formation, steps: int) -> dict
     else:
         candidates = list(reference_gaits.serpenoid_grid(formation, steps=steps))
         kind = "serpenoid travelling wave"
-    best: dict[str, Any] = {"kind": kind, "distance_m": -math.inf}
+    best: dict[str, Any] = {"kind": kind, "params": None, "distance_m": 0.0}
     for params, postures in candidates:
-        distance, failure = replay_postures(env, postures)
-        if failure is None and distance > best["distance_m"]:
-            best = {"kind": kind, "params": params, "distance_m": distance}
-    if best["distance_m"] == -math.inf:
-        best["distance_m"] = 0.0
+        replay = replay_postures(env, postures)
+        if replay.failure is None and replay.distance_m > best["distance_m"]:
+            best = {"kind": kind, "params": params, "distance_m": replay.distance_m}
     return best
+
+
+def searched_reference(
+    env: LocomotionEnv, formation: Formation, config: TrainingConfig, *, trials: int
+) -> dict[str, Any]:
+    """The CPG gait CMA-ES finds in ``trials`` exact trials (cached by content hash,
+    :mod:`qdsega.training.reference_search`), replayed in ``env``."""
+    try:
+        found = reference_gait(
+            formation,
+            task=config.task,
+            lower_agent=config.lower_agent,
+            physics=config.physics,
+            budget_trials=trials,
+            workers=config.workers,
+        )
+    except ValueError as exc:
+        raise FormationError(f"reference search: {exc}") from None
+    replay = replay_postures(env, found.postures)
+    return {
+        "kind": "CPG gait searched by CMA-ES",
+        "params": found.params.to_dict(),
+        "distance_m": replay.distance_m if replay.failure is None else 0.0,
+        "budget_trials": found.budget_trials,
+        "budget_steps": found.budget_steps,
+        "cache_key": found.key,
+    }
 
 
 def wave_of(formation: Formation, postures: np.ndarray) -> dict[str, Any]:

@@ -28,11 +28,10 @@ from __future__ import annotations
 import dataclasses
 import hashlib
 import importlib.metadata
+import importlib.resources
 import json
 import math
-import multiprocessing
 import os
-import signal
 import sys
 import time
 from concurrent.futures import ProcessPoolExecutor
@@ -47,9 +46,11 @@ from qdsega.assembly import assemble
 from qdsega.atomic import replaced_atomically
 from qdsega.description import Formation
 from qdsega.locomotion.cpg import CPGGait
-from qdsega.locomotion.env import LocomotionEnv, TaskConfig
+from qdsega.locomotion.env import LocomotionEnv, replay_postures
 from qdsega.locomotion.lower_agent import LowerAgentConfig
+from qdsega.parallel import worker_pool
 from qdsega.simulation import PhysicsSettings
+from qdsega.task import TaskConfig
 
 FORMAT_VERSION = 1
 """Part of every key; bump it when a change of the search or the simulation changes results."""
@@ -66,7 +67,7 @@ SIGMA0 = 0.3
 FAILED_COST = 1000.0
 """Cost of a failed trial, above the cost ``-distance`` of any completed one (m)."""
 
-SHIPPED_DIR = Path(__file__).resolve().parent.parent / "references"
+SHIPPED_DIR = Path(str(importlib.resources.files("qdsega.references")))
 """References computed at the default budget and shipped with the package."""
 
 
@@ -131,7 +132,7 @@ def reference_gait(
     """
     if workers < 1:
         raise ValueError(f"workers must be at least 1, got {workers}")
-    lower_agent.check_formation(formation)
+    lower_agent.step_duration_for(formation)  # refuses a step too short for a joint
     popsize = _popsize(formation)
     if budget_trials < popsize:
         raise ValueError(
@@ -199,20 +200,15 @@ def _env(
     lower_agent: LowerAgentConfig,
     physics: PhysicsSettings,
 ) -> LocomotionEnv:
-    """The env of learning and evaluation, with ``lower_agent`` executing the postures."""
-    return LocomotionEnv(
-        formation=formation,
-        task=dataclasses.replace(task, lower_agent=lower_agent),
-        physics=physics,
-    )
+    """The env of learning and evaluation."""
+    return LocomotionEnv(formation=formation, task=task, lower_agent=lower_agent, physics=physics)
 
 
 def _rules(task: TaskConfig, lower_agent: LowerAgentConfig, physics: PhysicsSettings) -> dict:
-    """The settings :func:`_env` depends on, as plain types."""
-    task_fields = dataclasses.asdict(task)
-    del task_fields["lower_agent"]  # the env runs ``lower_agent``, not the task's own
+    """The settings a posture sequence's distance depends on, as plain types (of the task, the
+    trial length alone: an open-loop gait earns no reward and sees no exterior state)."""
     return {
-        "task": task_fields,
+        "trial_steps": task.trial_steps,
         "lower_agent": dataclasses.asdict(lower_agent),
         "physics": dataclasses.asdict(physics),
     }
@@ -407,8 +403,10 @@ def _search(
 
 
 class _Trials:
-    """Runs trials in this process, or spread over worker processes (spawn) that each receive
-    the rules once."""
+    """Runs trials in one env of this process, or spread over worker processes that each
+    build one env. Every trial starts from the env's settled snapshot, and a restored
+    snapshot replays exactly (``PhysicsSettings.deterministic_pairs``), so results do not
+    depend on the worker count or on which worker ran which trial."""
 
     def __init__(
         self,
@@ -418,13 +416,13 @@ class _Trials:
         physics: PhysicsSettings,
         workers: int,
     ) -> None:
-        self._rules = (formation, task, lower_agent, physics)
+        rules = (formation, task, lower_agent, physics)
+        self._env: LocomotionEnv | None = None
         self._pool: ProcessPoolExecutor | None = None
         if workers > 1:
-            context = multiprocessing.get_context("spawn")
-            self._pool = ProcessPoolExecutor(
-                workers, mp_context=context, initializer=_init_worker, initargs=self._rules
-            )
+            self._pool = worker_pool(workers, _init_worker, rules)
+        else:
+            self._env = _env(*rules)
 
     def __enter__(self) -> _Trials:
         return self
@@ -432,45 +430,24 @@ class _Trials:
     def __exit__(self, *exc: object) -> None:
         if self._pool is not None:
             self._pool.shutdown(cancel_futures=True)
+        if self._env is not None:
+            self._env.close()
 
     def run(self, postures: list[np.ndarray]) -> list[tuple[float, int, bool]]:
         """Each posture sequence (steps, J) as one trial: (distance m, steps completed,
         failed), in order."""
-        if self._pool is None:
-            return [_trial(*self._rules, p) for p in postures]
+        if self._env is not None:
+            return [_trial(self._env, p) for p in postures]
+        assert self._pool is not None
         return list(self._pool.map(_trial_in_worker, postures))
 
 
-def _trial(
-    formation: Formation,
-    task: TaskConfig,
-    lower_agent: LowerAgentConfig,
-    physics: PhysicsSettings,
-    postures: np.ndarray,
-) -> tuple[float, int, bool]:
-    """One trial in a new env: (distance toward the light m, steps completed, failed).
-
-    A new env, not a reset one: PyBullet's state restore keeps the order of the contact
-    pairs of earlier trials, and a legged body's trial then depends on what ran before it
-    in the same world (by up to millimetres, sometimes failed or not). Building the env costs
-    about 10% of a snake5 trial of 30 steps."""
-    env = _env(formation, task, lower_agent, physics)
-    try:
-        env.reset(seed=0)
-        completed = 0
-        for posture in postures:
-            _, _, terminated, truncated, info = env.step(posture)
-            if terminated:
-                return float(info["distance_covered_m"]), completed, True
-            completed += 1
-            if truncated:
-                break
-        return float(env.distance_covered()), completed, False
-    finally:
-        env.close()
+def _trial(env: LocomotionEnv, postures: np.ndarray) -> tuple[float, int, bool]:
+    replay = replay_postures(env, postures)
+    return replay.distance_m, replay.completed, replay.failure is not None
 
 
-_worker_rules: tuple[Formation, TaskConfig, LowerAgentConfig, PhysicsSettings] | None = None
+_worker_env: LocomotionEnv | None = None
 
 
 def _init_worker(
@@ -479,12 +456,10 @@ def _init_worker(
     lower_agent: LowerAgentConfig,
     physics: PhysicsSettings,
 ) -> None:
-    """A worker keeps the rules, and leaves Ctrl-C to its parent, which stops the pool."""
-    global _worker_rules
-    signal.signal(signal.SIGINT, signal.SIG_IGN)
-    _worker_rules = (formation, task, lower_agent, physics)
+    global _worker_env
+    _worker_env = _env(formation, task, lower_agent, physics)
 
 
 def _trial_in_worker(postures: np.ndarray) -> tuple[float, int, bool]:
-    assert _worker_rules is not None, "worker not initialised"
-    return _trial(*_worker_rules, postures)
+    assert _worker_env is not None, "worker not initialised"
+    return _trial(_worker_env, postures)

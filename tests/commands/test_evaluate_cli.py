@@ -42,14 +42,20 @@ def test_memo_training_then_evaluate_plot_render_report(tmp_path):
     with np.load(run / "transitions.npz") as table:
         assert table["pairs"].shape[1] == 8 and len(table["values"]) >= 4
 
-    result = run_cli("evaluate", run)
+    # one CMA-ES generation (11 trials for 4 joints): the search runs, small
+    result = run_cli("evaluate", run, "--reference-trials", "11")
     assert result.returncode == 0, result.stderr
     evaluation = json.loads((run / "evaluation.json").read_text())
     assert evaluation["memo_prediction_m"] == summary["greedy_distance"]
     assert len(evaluation["postures"]) == 4 or evaluation["failure"]
-    assert evaluation["reference"]["kind"] == "serpenoid travelling wave"
-    assert evaluation["reference"]["distance_m"] > 0.02
-    assert evaluation["ratio"] == evaluation["distance_m"] / evaluation["reference"]["distance_m"]
+    kinds = [reference["kind"] for reference in evaluation["references"]]
+    assert kinds == ["serpenoid travelling wave", "CPG gait searched by CMA-ES"]
+    searched = evaluation["references"][1]
+    assert searched["budget_trials"] == 11 and searched["budget_steps"] == 11 * 4
+    best = max(evaluation["references"], key=lambda reference: reference["distance_m"])
+    assert evaluation["reference"] == best and best["distance_m"] > 0.02
+    assert f"best reference: {best['kind']}" in result.stdout
+    assert evaluation["ratio"] == evaluation["distance_m"] / best["distance_m"]
     units = np.array(evaluation["unit_xy_m"])
     assert units.shape == (len(evaluation["postures"]) + 1, 5, 2)
 

@@ -11,6 +11,7 @@ from helpers import run_cli
 from qdsega import ASSEMBLIES_DIR
 
 TINY = "task: {trial_steps: 6}\n"
+NO_SEARCH = ("--reference-trials", "0")  # the classic gaits only: this test is about files
 
 
 def test_a_moved_run_folder_evaluates_the_same_without_its_formation_files(project, tmp_path):
@@ -28,7 +29,7 @@ def test_a_moved_run_folder_evaluates_the_same_without_its_formation_files(proje
     summary = json.loads((run / "summary.json").read_text())
     assert summary["formation_file"] == str(formation.resolve())
     assert len(summary["formation_sha256"]) == 64
-    evaluated = run_cli("evaluate", run)
+    evaluated = run_cli("evaluate", run, *NO_SEARCH)
     assert evaluated.returncode == 0 and evaluated.stderr == "", evaluated.stderr
     expected = json.loads((run / "evaluation.json").read_text())
 
@@ -37,12 +38,12 @@ def test_a_moved_run_folder_evaluates_the_same_without_its_formation_files(proje
     (moved / "evaluation.json").unlink()
     shutil.rmtree(project / "units")
     formation.unlink()
-    again = run_cli("evaluate", moved)
+    again = run_cli("evaluate", moved, *NO_SEARCH)
     assert again.returncode == 0 and again.stderr == "", again.stderr
     assert json.loads((moved / "evaluation.json").read_text()) == expected
 
     formation.write_text(original.replace("distance_m: 50.0", "distance_m: 5.0"))
-    edited = run_cli("evaluate", moved)
+    edited = run_cli("evaluate", moved, *NO_SEARCH)
     assert edited.returncode == 0, edited.stderr
     assert edited.stderr.startswith(f"qdsega evaluate: warning: {formation.resolve()} ")
     assert "changed since this run copied" in edited.stderr
@@ -56,6 +57,6 @@ def test_a_moved_run_folder_evaluates_the_same_without_its_formation_files(proje
     assert "changed since" in rendered.stderr and gif.is_file()
 
     (moved / "formation.json").unlink()
-    refused = run_cli("evaluate", moved)
+    refused = run_cli("evaluate", moved, *NO_SEARCH)
     assert refused.returncode == 2 and len(refused.stderr.strip().splitlines()) == 1
     assert "no copy of the formation" in refused.stderr and "--overwrite" in refused.stderr

@@ -8,9 +8,10 @@ import pytest
 from qdsega import ASSEMBLIES_DIR
 from qdsega.description import Light, load_formation
 from qdsega.locomotion.cpg import CPGGait
-from qdsega.locomotion.env import LocomotionEnv, TaskConfig
+from qdsega.locomotion.env import LocomotionEnv, replay_postures
 from qdsega.locomotion.lower_agent import LowerAgentConfig
 from qdsega.simulation import PhysicsSettings
+from qdsega.task import TaskConfig
 from qdsega.training import reference_search
 from qdsega.training.reference_search import reference_gait, reference_key
 
@@ -51,14 +52,8 @@ def _replay(formation, postures, task=RULES["task"]):
     """Distance (m) and failure of a posture sequence in the env learning uses."""
     env = LocomotionEnv(formation=formation, task=task)
     try:
-        env.reset(seed=0)
-        for posture in postures:
-            _, _, terminated, truncated, info = env.step(posture)
-            if terminated:
-                return info["distance_covered_m"], info["failure"]
-            if truncated:
-                break
-        return env.distance_covered(), None
+        replay = replay_postures(env, postures)
+        return replay.distance_m, replay.failure
     finally:
         env.close()
 
@@ -114,6 +109,9 @@ def test_the_key_changes_with_every_input_and_nothing_else(write_formation, monk
     assert (
         reference_key(SNAKE, **RULES, budget_trials=reference_search.DEFAULT_BUDGET_TRIALS) == base
     )
+    # An open-loop gait earns no reward: the reward's unit and the penalty are not inputs.
+    rewarded = TaskConfig(trial_steps=STEPS, distance_unit_m=0.01, penalty=-5.0)
+    assert reference_key(SNAKE, **(RULES | {"task": rewarded})) == base
 
     def key(formation=SNAKE, **change):
         return reference_key(formation, **(RULES | change))
@@ -126,7 +124,7 @@ def test_the_key_changes_with_every_input_and_nothing_else(write_formation, monk
         ),
         "light": key(SNAKE.with_light(Light(distance_m=50.0, bearing_rad=0.5))),
         "trial steps": key(task=TaskConfig(trial_steps=STEPS + 1)),
-        "step duration": key(lower_agent=LowerAgentConfig(step_duration_s=0.4)),
+        "step duration": key(lower_agent=LowerAgentConfig(step_duration_s=0.55)),
         "physics": key(physics=PhysicsSettings(solver_iterations=40)),
         "budget": key(budget_trials=100),
         "seed": key(seed=1),
@@ -146,7 +144,7 @@ def test_a_cached_result_is_reused_without_simulating(searches, user_cache):
     assert first.file is not None and first.file.parent == user_cache
     stored = json.loads(first.file.read_text(encoding="utf-8"))
     assert stored["key"] == first.key
-    assert stored["inputs"]["task"]["trial_steps"] == 2
+    assert stored["inputs"]["trial_steps"] == 2
     assert stored["inputs"]["search"]["budget_trials"] == ONE_GENERATION
     assert stored["postures"] == first.postures.tolist()
     second = reference_gait(SNAKE, **QUICK, budget_trials=ONE_GENERATION, workers=2)

@@ -1,0 +1,1 @@
+"""Reference gaits computed at the default budget, shipped with the package (JSON)."""
