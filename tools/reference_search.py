@@ -1,38 +1,42 @@
 """The CMA-ES reference gait of a formation under the training defaults, searched or cached.
 
-Usage: .venv/bin/python tools/reference_search.py FORMATION.yaml [--budget-trials N] [--seed S]
-[--workers N]
+Usage: .venv/bin/python tools/reference_search.py FORMATION [--preset NAME] [--budget-trials N]
+[--seed S] [--workers N] [--ship]
 
-The rules are those ``qdsega train`` uses by default (trial length, lower agent, physics); the
-result is cached (``$QDSEGA_CACHE/references``, default ``~/.cache/qdsega/references``), so
-a second call with the same arguments prints the stored search at once.
+The rules are those ``qdsega train --preset NAME`` uses (trial length, lower agent, physics;
+every shipped preset has the same ones); the result is cached (``$QDSEGA_CACHE/references``,
+default ``~/.cache/qdsega/references``), so a second call with the same arguments prints the
+stored search at once. ``--ship`` also copies it into ``qdsega/references/``, where
+``qdsega evaluate`` finds it on every machine with the same PyBullet version.
 """
 
 from __future__ import annotations
 
 import argparse
 import math
+import shutil
 from pathlib import Path
 
-from qdsega.description import load_formation
-from qdsega.training.config import TrainingConfig
-from qdsega.training.reference_search import DEFAULT_BUDGET_TRIALS, reference_gait
-from qdsega.training.worlds import task_of
+from qdsega.description import load_formation, resolve_formation
+from qdsega.training.config import resolve_config
+from qdsega.training.reference_search import DEFAULT_BUDGET_TRIALS, SHIPPED_DIR, reference_gait
 
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("formation", type=Path, help="formation YAML file")
+    parser.add_argument("formation", type=Path, help="formation YAML file or shipped name")
+    parser.add_argument("--preset", help="training preset whose rules apply (default: default)")
     parser.add_argument("--budget-trials", type=int, default=DEFAULT_BUDGET_TRIALS)
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--workers", type=int, default=2)
+    parser.add_argument("--ship", action="store_true", help="copy it into qdsega/references/")
     args = parser.parse_args()
-    config = TrainingConfig()
     try:
-        formation = load_formation(args.formation)
+        config = resolve_config(preset=args.preset)
+        formation = load_formation(resolve_formation(args.formation))
         result = reference_gait(
             formation,
-            task=task_of(config),
+            task=config.task,
             lower_agent=config.lower_agent,
             physics=config.physics,
             budget_trials=args.budget_trials,
@@ -60,6 +64,9 @@ def main() -> None:
     for row in result.postures[: gait.period_steps]:
         print("  " + " ".join(str(level) for level in row))
     print(f"cached in {result.file}")
+    if args.ship and result.file is not None and result.file.parent != SHIPPED_DIR:
+        shutil.copyfile(result.file, SHIPPED_DIR / result.file.name)
+        print(f"shipped as {SHIPPED_DIR / result.file.name}")
 
 
 if __name__ == "__main__":
