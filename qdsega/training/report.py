@@ -97,15 +97,19 @@ def _format(value: Any) -> str:
 def _evaluation(evaluation: dict[str, Any] | None, run: Path) -> str:
     if evaluation is None:
         return f"<p class='note'>Not evaluated yet: <code>qdsega evaluate {run}</code>.</p>"
-    reference = evaluation["reference"]
-    shown = {
+    best = evaluation["reference"]
+    shown: dict[str, Any] = {
         "learnt policy, distance toward the light (m)": evaluation["distance_m"],
         "ended early because": evaluation["failure"] or "did not fail",
         "memo table predicted (m)": evaluation.get("memo_prediction_m"),
-        f"reference: {reference['kind']} (m)": reference["distance_m"],
-        "reference parameters": reference.get("params"),
-        "ratio learnt / reference": evaluation["ratio"],
     }
+    for reference in evaluation.get("references", [best]):
+        won = " (best)" if reference == best else ""
+        budget = reference.get("budget_trials")
+        spent = "" if budget is None else f", searched in {budget} exact trials"
+        shown[f"reference: {reference['kind']}{spent} (m){won}"] = reference["distance_m"]
+        shown[f"{reference['kind']}: parameters"] = reference.get("params")
+    shown["ratio learnt / best reference"] = evaluation["ratio"]
     wave = evaluation.get("wave")
     if wave is not None:
         shown["period (steps)"] = wave["period_steps"]

@@ -81,6 +81,8 @@ def test_memo_training_then_evaluate_plot_render_report(tmp_path):
     assert len(re.findall("src='data:image/png;base64,", page)) == 5
     assert page.count("src='data:video/mp4;base64,") == 1
     assert "serpenoid travelling wave" in page and "paper-snake" in page
+    assert "CPG gait searched by CMA-ES, searched in 11 exact trials (m)" in page
+    assert page.count("(best)") == 1
     assert "<h2>Formation: snake5.yaml</h2>" in page and summary["formation_sha256"] in page
 
 
