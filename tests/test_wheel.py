@@ -67,7 +67,8 @@ def _fresh_environment(folder: Path) -> Path:
 def test_wheel_installs_and_runs_outside_the_checkout(tmp_path):
     wheel = _build_wheel(tmp_path / "build")
     names = set(zipfile.ZipFile(wheel).namelist())
-    for file in (CHECKOUT / "qdsega").rglob("*.py"):
+    shipped = [*(CHECKOUT / "qdsega").rglob("*.py"), *(CHECKOUT / "qdsega").rglob("*.json")]
+    for file in shipped:  # code and shipped reference gaits
         assert file.relative_to(CHECKOUT).as_posix() in names, f"{file} is not in the wheel"
     for folder, package in (("units", "qdsega/units"), ("assemblies", "qdsega/assemblies")):
         for file in (CHECKOUT / folder).rglob("*"):
