@@ -6,10 +6,10 @@ Each RUN is a run folder that ``qdsega train`` finished and ``qdsega evaluate`` 
 table is Markdown, one row per run: formation, seed, budget, wall time of training, the final
 greedy policy's distance as the learner's world predicted it and with exact physics, the
 prediction's error, the share of generations whose prediction was within 10 % of their exact
-replay, the last generation's exact distance over the first's, the best reference gait, the
-ratio learnt/reference and the rhythm (period, phase lags). A second table aggregates the runs
-of each formation: median exact distance and ratio, worst seed's ratio over the median, and the
-aims of the physics-fidelity issue.
+replay, the last generation's exact distance over the first's, the classic and the best
+reference gait, the ratio learnt/best reference and the rhythm (period, phase lags). A second
+table aggregates the runs of each formation: median exact distance and ratio, worst seed's
+ratio over the median, and the aims of the physics-fidelity issue.
 """
 
 from __future__ import annotations
@@ -31,7 +31,8 @@ COLUMNS = (
     "error",
     "generations within 10 %",
     "last / first",
-    "reference (m)",
+    "classic reference (m)",
+    "best reference (m)",
     "ratio",
     "rhythm",
 )
@@ -84,6 +85,7 @@ def read_run(run: Path) -> Run:
     lags = ", ".join(f"{lag:.0f}" for lag in wave.get("phase_lag_deg", []))
     rhythm = f"period {wave.get('period_steps')}, lags [{lags}] deg" if wave else ""
     reference = evaluation["reference"]
+    classic = evaluation.get("references", [reference])[0]  # the hand-designed one comes first
     failure = f" ({evaluation['failure']})" if evaluation["failure"] else ""
     ratio = evaluation["ratio"]
     error = (predicted - exact) / abs(exact) if exact else None
@@ -97,6 +99,7 @@ def read_run(run: Path) -> Run:
         "" if error is None else f"{error:+.1%}",
         f"{within}/{len(pairs)}",
         "" if growth is None else f"{growth:.2f}",
+        f"{classic['distance_m']:.3f}",
         f"{reference['distance_m']:.3f} ({reference['kind']})",
         "" if ratio is None else f"{ratio:.3f}",
         rhythm,
