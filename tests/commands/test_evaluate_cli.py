@@ -3,11 +3,15 @@
 
 import json
 import re
+import subprocess
+import sys
+from pathlib import Path
 
 import imageio.v3 as iio
 import numpy as np
 from helpers import run_cli
 
+TOOLS = Path(__file__).resolve().parents[2] / "tools"
 TINY = """\
 workers: 1
 agent:
@@ -83,6 +87,13 @@ def test_memo_training_then_evaluate_plot_render_report(tmp_path):
     assert "serpenoid travelling wave" in page and "paper-snake" in page
     assert "CPG gait searched by CMA-ES, searched in 11 exact trials (m)" in page
     assert page.count("(best)") == 1
+
+    table = subprocess.run(
+        [sys.executable, TOOLS / "formation_table.py", run], capture_output=True, text=True
+    )
+    assert table.returncode == 0, table.stderr
+    row = next(line for line in table.stdout.splitlines() if line.startswith("| snake5 | 0 |"))
+    assert f"| {evaluation['distance_m']:.3f} |" in row and f"| {evaluation['ratio']:.3f} |" in row
     assert "<h2>Formation: snake5.yaml</h2>" in page and summary["formation_sha256"] in page
 
 

@@ -1,9 +1,13 @@
 import dataclasses
 import json
 import math
+import subprocess
+import sys
+from pathlib import Path
 
 import numpy as np
 import pytest
+from helpers import SHIPPED_FORMATIONS
 
 from qdsega import ASSEMBLIES_DIR
 from qdsega.description import Light, load_formation
@@ -13,6 +17,7 @@ from qdsega.locomotion.lower_agent import LowerAgentConfig
 from qdsega.simulation import PhysicsSettings
 from qdsega.task import TaskConfig
 from qdsega.training import reference_search
+from qdsega.training.config import resolve_config
 from qdsega.training.reference_search import reference_gait, reference_key
 
 SNAKE = load_formation(ASSEMBLIES_DIR / "snake5.yaml")
@@ -206,3 +211,30 @@ def test_no_completed_trial_is_an_error():
             workers=1,
             cache=False,
         )
+
+
+SHIPPED = reference_search.SHIPPED_DIR  # before the fixture hides it
+TOOL = Path(__file__).resolve().parents[2] / "tools" / "reference_search.py"
+
+
+@pytest.mark.parametrize("name", [file.stem for file in SHIPPED_FORMATIONS])
+def test_every_shipped_formation_ships_its_reference_under_the_presets_rules(name):
+    """Changing what a search depends on (physics, lower agent, assembler, a formation) makes
+    the shipped file stale: re-run ``tools/reference_search.py NAME --ship``."""
+    config = resolve_config()
+    key = reference_key(
+        load_formation(ASSEMBLIES_DIR / f"{name}.yaml"),
+        task=config.task,
+        lower_agent=config.lower_agent,
+        physics=config.physics,
+    )
+    assert (SHIPPED / f"{name}-{key[:16]}.json").is_file(), f"stale or missing: {name}"
+
+
+def test_the_tool_searches_then_reads_its_cache():
+    command = [sys.executable, TOOL, "snake5", "--budget-trials", str(ONE_GENERATION)]
+    first = subprocess.run([*command, "--workers", "1"], capture_output=True, text=True)
+    assert first.returncode == 0, first.stderr
+    assert f"search of {ONE_GENERATION} trials ({ONE_GENERATION * 30} steps" in first.stdout
+    again = subprocess.run(command, capture_output=True, text=True)
+    assert again.stdout.splitlines()[0] == first.stdout.splitlines()[0]  # same wall_s: cached
