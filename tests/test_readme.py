@@ -42,6 +42,8 @@ def test_worked_example_runs_as_written(tmp_path):
             assert args[0] == "qdsega", command
             if args[1] == "train":  # the same command, on a budget a test can afford
                 args += ["--generations", "1", "--config", "tiny.yaml"]
+            if args[1] == "evaluate":  # the classic gaits only, no CMA-ES search
+                args += ["--reference-trials", "0"]
             result = run_cli(*args[1:], cwd=tmp_path)
             assert result.returncode == 0, (command, result.stderr)
     run = tmp_path / "runs" / "my_snake-memo-seed0"
