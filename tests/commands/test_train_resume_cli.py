@@ -30,13 +30,16 @@ task: {{trial_steps: 6}}
 
 
 def _start(*args: str | Path) -> subprocess.Popen[str]:
-    """``qdsega ARGS`` in its own process group (as a terminal's foreground job)."""
+    """``qdsega ARGS`` in its own process group, with Ctrl-C's default action (as a
+    terminal's foreground job), even where the tests themselves run with SIGINT ignored (a
+    background job of a non-interactive shell, e.g. ``make test &``)."""
     return subprocess.Popen(
         [sys.executable, "-m", "qdsega.cli", *map(str, args)],
         stdout=subprocess.PIPE,
         stderr=subprocess.PIPE,
         text=True,
         start_new_session=True,
+        preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL),
     )
 
 
