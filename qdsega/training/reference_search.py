@@ -5,9 +5,9 @@ joint and one period of ``PERIODS`` upper-agent steps. CMA-ES (the ``cma`` packa
 tell) searches them in exact physics: every candidate is one trial in the
 :class:`qdsega.locomotion.env.LocomotionEnv` learning and evaluation use (same levels, lower
 agent, step duration, trial length and physics settings), scored by the distance it covers
-toward the light. Each CMA-ES generation is spread over worker processes; every trial runs in
-a new env, so the result depends on the seed only, not on the number of workers or on which
-worker ran which trial.
+toward the light. Each CMA-ES generation is spread over worker processes; every trial starts
+from its env's settled snapshot, which restores exactly, so the result depends on the seed
+only, not on the number of workers or on which worker ran which trial.
 
 The search space is the unit box: ``[0, 1]^(3J)`` for the oscillators
 (:meth:`CPGGait.from_unit`, phases wrap around) and one more coordinate for the period, cut
