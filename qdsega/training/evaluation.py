@@ -60,9 +60,12 @@ def evaluate_run(
         reference_trials: the CMA-ES reference search's budget in trials (0: no search).
 
     Raises:
-        FormationError: missing or corrupt run folder; a search budget below one CMA-ES
-            generation.
+        FormationError: missing or corrupt run folder; a negative search budget, or one below
+            one CMA-ES generation.
     """
+    if reference_trials < 0:
+        message = f"--reference-trials must be 0 (no search) or more, got {reference_trials}"
+        raise FormationError(message)
     run = Path(run)
     summary, config, policy = load_run(run)
     formation = load_run_formation(run, config)

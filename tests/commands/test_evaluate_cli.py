@@ -46,6 +46,10 @@ def test_memo_training_then_evaluate_plot_render_report(tmp_path):
     with np.load(run / "transitions.npz") as table:
         assert table["pairs"].shape[1] == 8 and len(table["values"]) >= 4
 
+    for budget in ("-5", "3"):  # negative; below one CMA-ES generation
+        refused = run_cli("evaluate", run, "--reference-trials", budget)
+        assert refused.returncode == 2 and len(refused.stderr.strip().splitlines()) == 1
+        assert "reference" in refused.stderr and not (run / "evaluation.json").exists()
     # one CMA-ES generation (11 trials for 4 joints): the search runs, small
     result = run_cli("evaluate", run, "--reference-trials", "11")
     assert result.returncode == 0, result.stderr
