@@ -100,7 +100,7 @@ class GeneticConfig:
     Selection is fitness-proportional roulette, with replacement; parents are paired in draw
     order and each pair is crossed with probability ``crossover_rate`` (an odd one out is
     copied). Mutation visits every character of every child and, with probability
-    ``mutation_rate``, sets it to a different level drawn uniformly. No elitism.
+    ``mutation_rate``, sets it to a different level drawn uniformly.
 
     Attributes:
         population: individuals (paper: 200 legged, 30 snake).
@@ -118,6 +118,13 @@ class GeneticConfig:
             gene an action's copies are multiplied by its use every generation: the posture
             used most takes over, and postures used less (the first step out of the start
             posture) or equally (the other postures of a gait, left to drift) are lost.
+        elitism: put the postures of the best greedy trial verified so far
+            (:meth:`qdsega.agent.learner.QDSEGA.verify`: with exact physics where the learner
+            runs on a table) back into every later population that lost them, each in place
+            of a copy of the most copied phenotype (open; True: a learner on a table that
+            overrates other moves would otherwise breed away a gait that exact physics has
+            shown to walk, and its learning curve falls below its own first generation;
+            ``qdsega/agent/README.md``).
     """
 
     population: int = 200
@@ -126,6 +133,7 @@ class GeneticConfig:
     crossover_rate: float = 0.2
     mutation_rate: float = 0.001
     selection: SelectionKind = "actions"
+    elitism: bool = True
 
     def __post_init__(self) -> None:
         if self.population < 2 or self.generations < 1:

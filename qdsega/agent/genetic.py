@@ -87,6 +87,31 @@ def mutate(
     return np.where(hit, (population + shift) % levels, population)
 
 
+def with_elite(population: np.ndarray, elite: np.ndarray) -> np.ndarray:
+    """``population`` (N, J) with every posture of ``elite`` (k, J), k <= N // 2, present.
+
+    Each missing elite posture replaces one individual, without a random draw: the last
+    individual of the phenotype with the most copies, elite phenotypes spared. So the GA keeps
+    its diversity, and a run continued from a saved state replaces the same individuals.
+    """
+    population = np.array(population, dtype=np.int64)
+    elite = np.asarray(elite, dtype=np.int64).reshape(-1, population.shape[1])
+    if len(elite) > len(population) // 2:
+        raise ValueError(f"{len(elite)} elite postures for a population of {len(population)}")
+    for posture in elite:
+        if np.any(np.all(population == posture, axis=1)):
+            continue
+        _, action_of, counts = np.unique(
+            population, axis=0, return_inverse=True, return_counts=True
+        )
+        copies = counts[action_of.reshape(-1)].astype(np.float64)
+        spared = np.any(np.all(population[:, None, :] == elite[None], axis=2), axis=1)
+        copies[spared] = -np.inf
+        victim = len(population) - 1 - int(np.argmax(copies[::-1]))
+        population[victim] = posture
+    return population
+
+
 def reproduce(
     population: np.ndarray,
     fitness: np.ndarray,

@@ -7,6 +7,9 @@ moves differently inside a trial: there the move ``i -> j`` depends mostly on th
 went through, and answers Dyna-style (the learner plans on a model that is corrected where its
 policies actually go), the most specific knowledge first:
 
+0. where a walk from the start of a trial follows the commands of a remembered trial, that
+   trial's move (:class:`qdsega.agent.world.Paths`): physics is deterministic, so the same
+   commands from the same start move the robot the same way, whatever other trials saw;
 1. the mean move of the latest trial that went ``i -> j`` entered from ``h`` (or at the start
    of a trial: a context row of the table, :class:`qdsega.agent.world.Transitions`);
 2. else the mean of the moves observed for ``i -> j`` in any context;
@@ -14,7 +17,9 @@ policies actually go), the most specific knowledge first:
    forward moves and the observed ones (a lower confidence bound: among many unobserved
    transitions the learner would pick those the base overrates, and predict a gait that
    exact physics then does not walk; where the base is right, as for legged bodies, the gap
-   and the correction are small).
+   and the correction are small). An explorer asks for an upper bound instead
+   (``confidence`` > 0: the measurement plus that many gaps), so that what it tries is what
+   the table may underrate.
 
 In its context the latest trial's mean, not the mean of all: the physics is deterministic,
 and what a move does there still depends on the history before ``h``, which is that of the
@@ -27,10 +32,12 @@ in any context, one observed to fail more often than not fails.
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 
 from qdsega.agent.policy import Rollout
-from qdsega.agent.world import TransitionProvider, Transitions
+from qdsega.agent.world import Paths, TransitionProvider, Transitions
 from qdsega.task import relative_move
 
 _SUMS = 5  # dx (m), dy (m), dtheta (rad) (summed, or latest in context); moves; failures
@@ -49,6 +56,11 @@ class GroundedTransitions:
         self._context: dict[bytes, dict[bytes, np.ndarray]] = {}  # h + i -> {j -> latest}
         self._start = np.full(self.n_joints, -1, dtype=np.int64).tobytes()  # h of a start
         self._base_dx: dict[bytes, float] = {}  # i + j -> the base's forward move (m)
+        # Remembered trials: node 0 is a trial's start; each node is one command's outcome.
+        self._children: list[dict[bytes, int]] = [{}]  # node -> {target -> node}
+        self._moves: list[np.ndarray] = [np.zeros(4)]  # node -> dx, dy, dtheta, failed
+        self._parent: list[int] = [-1]
+        self._target: list[bytes] = [b""]
 
     @property
     def n_joints(self) -> int:
@@ -61,8 +73,11 @@ class GroundedTransitions:
         """Transitions observed at least once (in any context)."""
         return len(self._plain)
 
-    def transitions(self, from_postures: np.ndarray, to_postures: np.ndarray) -> Transitions:
-        """The base table's outcomes, corrected by what was observed (module docstring)."""
+    def transitions(
+        self, from_postures: np.ndarray, to_postures: np.ndarray, *, confidence: float = -1.0
+    ) -> Transitions:
+        """The base table's outcomes, corrected by what was observed (module docstring); an
+        unobserved forward move is the base's plus ``confidence`` times :meth:`base_gap_m`."""
         sources = np.asarray(from_postures, dtype=np.int64)
         targets = np.asarray(to_postures, dtype=np.int64)
         base = self.base.transitions(sources, targets)
@@ -71,7 +86,7 @@ class GroundedTransitions:
         keys = [t.tobytes() for t in targets]
         gap = self.base_gap_m()
         unobserved = Transitions(
-            dx=np.asarray(base.dx, dtype=np.float64) - gap,
+            dx=np.asarray(base.dx, dtype=np.float64) + confidence * gap,
             dy=base.dy,
             dtheta=base.dtheta,
             failed=base.failed,
@@ -92,8 +107,9 @@ class GroundedTransitions:
                 context[h, i] = len(rows)
                 rows.append({k: seen.get(k) for k in keys})
                 base_rows.append(i)
+        paths = self._paths(keys)
         if not rows:
-            return plain
+            return replace(plain, paths=paths)
         in_context = _corrected(
             Transitions(
                 dx=plain.dx[base_rows],
@@ -111,6 +127,32 @@ class GroundedTransitions:
             failed=plain.failed,
             context=context,
             in_context=in_context,
+            paths=paths,
+        )
+
+    def _paths(self, keys: list[bytes]) -> Paths:
+        """The remembered trials that command only postures among ``keys`` (target columns)
+        from their start, as a tree over those columns."""
+        column = {k: c for c, k in enumerate(keys)}
+        kept = [0]  # old node ids, in new order
+        child = [np.full(len(keys), -1, dtype=np.int64)]
+        new = 0
+        while new < len(kept):  # breadth first from the start
+            for target, old in self._children[kept[new]].items():
+                c = column.get(target)
+                if c is None:
+                    continue
+                child[new][c] = len(kept)
+                kept.append(old)
+                child.append(np.full(len(keys), -1, dtype=np.int64))
+            new += 1
+        moves = np.array([self._moves[k] for k in kept])
+        return Paths(
+            child=np.array(child),
+            dx=moves[:, 0],
+            dy=moves[:, 1],
+            dtheta=moves[:, 2],
+            failed=moves[:, 3] > 0.5,
         )
 
     def base_gap_m(self) -> float:
@@ -150,22 +192,55 @@ class GroundedTransitions:
             latest[3:] += sums[3:]
             if sums[3]:
                 latest[:3] = sums[:3] / sums[3]
+        self._remember(targets, trial)
         return len(targets)
+
+    def _remember(self, targets: list[np.ndarray], trial: Rollout) -> None:
+        """Add the trial's commands and moves to the tree of remembered trials."""
+        node = 0
+        for t, target in enumerate(targets):
+            move = np.zeros(4)
+            if trial.failed and t == len(targets) - 1:
+                move[3] = 1.0
+            else:
+                move[:3] = relative_move(tuple(trial.poses[t]), tuple(trial.poses[t + 1]))
+            node = self._add_node(node, target.tobytes(), move)
+
+    def _add_node(self, parent: int, target: bytes, move: np.ndarray) -> int:
+        """The child of ``parent`` for ``target``, made if new; its move set to ``move``."""
+        node = self._children[parent].get(target)
+        if node is None:
+            node = len(self._moves)
+            self._children[parent][target] = node
+            self._children.append({})
+            self._moves.append(move)
+            self._parent.append(parent)
+            self._target.append(target)
+        else:
+            self._moves[node] = move
+        return node
 
     def state(self) -> dict[str, np.ndarray]:
         """The observations as arrays (for a checkpoint): ``plain_keys`` (n, 2J) levels of
         ``i, j`` and ``plain_sums`` (n, 5): summed dx (m), dy (m), dtheta (rad), moves,
         failures; ``context_keys`` (c, 3J) levels of ``h, i, j`` (``h`` all -1: the start of
         a trial) and ``context_sums`` (c, 5): the latest trial's mean dx, dy, dtheta; all moves
-        and failures."""
+        and failures; the remembered trials' nodes after the start, in the order they were
+        made: ``path_parents`` (N,), ``path_targets`` (N, J) levels commanded,
+        ``path_moves`` (N, 4) dx (m), dy (m), dtheta (rad), failed."""
         triples = {
             pair + target: sums
             for pair, seen in self._context.items()
             for target, sums in seen.items()
         }
+        j = self.n_joints
+        targets = [np.frombuffer(t, dtype=np.int64) for t in self._target[1:]]
         return {
-            **_arrays("plain", self._plain, 2 * self.n_joints),
-            **_arrays("context", triples, 3 * self.n_joints),
+            **_arrays("plain", self._plain, 2 * j),
+            **_arrays("context", triples, 3 * j),
+            "path_parents": np.array(self._parent[1:], dtype=np.int64),
+            "path_targets": np.array(targets, dtype=np.int64).reshape(-1, j),
+            "path_moves": np.array(self._moves[1:], dtype=np.float64).reshape(-1, 4),
         }
 
     def restore(self, state: dict[str, np.ndarray]) -> None:
@@ -182,6 +257,15 @@ class GroundedTransitions:
         width = 2 * j * 8  # bytes of h + i
         for key, sums in triples.items():
             self._context.setdefault(key[:width], {})[key[width:]] = sums
+        parents, targets, moves = (state[k] for k in ("path_parents", "path_targets", "path_moves"))
+        n = len(parents)
+        if targets.shape != (n, j) or moves.shape != (n, 4) or np.any(parents >= 1 + np.arange(n)):
+            raise ValueError(
+                f"remembered trials {targets.shape}, {moves.shape} do not fit this body"
+            )
+        self._children, self._moves, self._parent, self._target = [{}], [np.zeros(4)], [-1], [b""]
+        for parent, target, move in zip(parents, targets, moves, strict=True):
+            self._add_node(int(parent), target.astype(np.int64).tobytes(), move.astype(np.float64))
 
 
 def _corrected(

@@ -5,7 +5,9 @@ and the action posture both persist, zeros elsewhere (``carry_q``; zeros everywh
 it), and eq. (18)'s schedule restarts with it: a new population is a new set of actions and
 states (the paper's 10000 trials per generation cool the temperature from 408 to below 1e-6,
 so each generation is a full learning run). Reproduction draws parents from a roulette wheel
-with one slot per action or per gene (``GeneticConfig.selection``).
+with one slot per action or per gene (``GeneticConfig.selection``). With
+``GeneticConfig.elitism`` the postures of the best greedy trial verified so far
+(:meth:`QDSEGA.verify`) are put back into a population that lost them before it learns.
 """
 
 from __future__ import annotations
@@ -20,7 +22,7 @@ import numpy as np
 
 from qdsega.agent.config import QDSEGAConfig
 from qdsega.agent.fitness import fitness
-from qdsega.agent.genetic import random_population, reproduce, roulette_weights
+from qdsega.agent.genetic import random_population, reproduce, roulette_weights, with_elite
 from qdsega.agent.policy import GreedyPolicy, Rollout, rollout
 from qdsega.agent.qlearning import learn_on_table
 from qdsega.agent.space import ExplorationSpace
@@ -75,12 +77,15 @@ class LearnerState:
         rng_state: the random generator's ``bit_generator.state`` (plain dict, JSON-safe).
         previous: the last generation's space and Q-table (``carry_q`` starts from it), or
             None before the first generation.
+        elite: the postures of the best verified greedy trial, shape (k, J) (k = 0 before
+            any), and its distance toward the light (m; None before any).
     """
 
     completed: int
     population: np.ndarray
     rng_state: dict[str, Any]
     previous: tuple[ExplorationSpace, np.ndarray] | None
+    elite: tuple[np.ndarray, float | None]
 
 
 class QDSEGA:
@@ -116,6 +121,8 @@ class QDSEGA:
         self.completed = 0
         """Generations learnt so far."""
         self._previous: tuple[ExplorationSpace, np.ndarray] | None = None
+        self._elite = np.zeros((0, len(levels)), dtype=np.int64)
+        self._elite_m: float | None = None
 
     def run(self) -> Iterator[Generation]:
         """Yield every remaining generation in turn (see :meth:`step`)."""
@@ -136,6 +143,32 @@ class QDSEGA:
             )
         return generation
 
+    def verify(self, generation: Generation, trial: Rollout) -> None:
+        """Tell the learner how ``generation``'s greedy policy walked when verified (with exact
+        physics where it learns on a table). The best such trial so far is the elite: with
+        ``genetic.elitism`` every later population that lost one of its postures gets it back
+        (the most used first, at most half the population)."""
+        if self._elite_m is not None and trial.distance_m <= self._elite_m:
+            return
+        reached = trial.reached_postures(generation.space.postures[0])[1:]
+        postures, counts = np.unique(reached, axis=0, return_counts=True)
+        keep = np.argsort(-counts, kind="stable")[: self.config.genetic.population // 2]
+        self._elite = postures[np.sort(keep)]
+        self._elite_m = trial.distance_m
+
+    def explore(
+        self, generation: Generation, table: Transitions, rng: np.random.Generator
+    ) -> GreedyPolicy:
+        """The greedy policy of one more learning phase over ``generation``'s space, on
+        ``table`` (an optimistic view of the world, say), from its Q-table; ``rng`` draws the
+        roulette, so the learner's own generator and state are untouched."""
+        q = generation.q.copy()
+        uses = np.zeros(generation.space.n_actions, dtype=np.int64)
+        trials = self.config.learning.trials
+        distances, fell = np.zeros(trials), np.zeros(trials, dtype=np.bool_)
+        self._learn_on_table(generation.space, table, q, uses, distances, fell, rng)
+        return GreedyPolicy.of(generation.space, q)
+
     def state(self) -> LearnerState:
         """A copy of everything the rest of the run depends on."""
         previous = None
@@ -147,6 +180,7 @@ class QDSEGA:
             population=self.population.copy(),
             rng_state=copy.deepcopy(self.rng.bit_generator.state),
             previous=previous,
+            elite=(self._elite.copy(), self._elite_m),
         )
 
     def restore(self, state: LearnerState) -> None:
@@ -169,6 +203,10 @@ class QDSEGA:
         if state.previous is not None:
             space, q = state.previous
             self._previous = (space, q.copy())
+        elite, self._elite_m = state.elite
+        if elite.shape[1:] != (len(self.levels),) or len(elite) > len(self.population) // 2:
+            raise ValueError(f"state elite {elite.shape} does not fit this learner")
+        self._elite = elite.astype(np.int64)
 
     def _initial_q(self, space: ExplorationSpace) -> np.ndarray:
         """Zeros, or with ``carry_q`` the previous generation's values where the interior
@@ -191,6 +229,8 @@ class QDSEGA:
         of its actions."""
         start = time.perf_counter()
         trials, fit = self.config.learning.trials, self.config.fitness
+        if self.config.genetic.elitism:
+            self.population = with_elite(self.population, self._elite)
         space = ExplorationSpace.from_population(self.population, self.world.start_posture())
         q = self._initial_q(space)
         uses = np.zeros(space.n_actions, dtype=np.int64)
@@ -201,7 +241,7 @@ class QDSEGA:
             greedy_world: World = self.world
         else:
             table = self.world.transitions(space.postures, space.actions)
-            steps = self._learn_on_table(space, table, q, uses, distances, fell)
+            steps = self._learn_on_table(space, table, q, uses, distances, fell, self.rng)
             greedy_world = TableWorld(space=space, table=table, task=self.task)
         greedy = rollout(GreedyPolicy.of(space, q), greedy_world, steps=self.task.trial_steps)
         self._previous = (space, q)
@@ -232,8 +272,9 @@ class QDSEGA:
         uses: np.ndarray,
         distances: np.ndarray,
         fell: np.ndarray,
+        rng: np.random.Generator,
     ) -> int:
-        """Compiled learning on the world's transition table; returns the steps taken."""
+        """Compiled learning on a transition table; returns the steps taken."""
         task, learning = self.task, self.config.learning
         return int(
             learn_on_table(
@@ -249,7 +290,7 @@ class QDSEGA:
                 self._schedule(),
                 task.config.reward_per_m,
                 task.penalty,
-                self.rng,
+                rng,
                 uses,
                 distances,
                 fell,

@@ -8,8 +8,9 @@ and runs ``trial_steps`` commands or until the lower agent fails. Each step:
    restarting at 0 each generation (the schedule then explores afresh over a new table);
 2. if the move fails: ``Q(s, a) <- (1 - alpha) Q(s, a) + alpha * penalty`` and the trial ends
    (a fall has no next state);
-3. else move the robot by the table's body-frame displacement (the row for the posture the
-   robot came from where the table has one), reward eq. (17), and update eq. (1) with
+3. else move the robot by the table's body-frame displacement (the move of a remembered trial
+   while the walk follows one since the trial's start, else the row for the posture the robot
+   came from where the table has one), reward eq. (17), and update eq. (1) with
    ``max Q(s', .)``; the step that ends a trial by its length bootstraps like any
    other (a time limit is not a terminal state).
 
@@ -63,6 +64,11 @@ def learn_on_table(
     context_dy: np.ndarray,
     context_dtheta: np.ndarray,
     context_failed: np.ndarray,
+    path_child: np.ndarray,
+    path_dx: np.ndarray,
+    path_dy: np.ndarray,
+    path_dtheta: np.ndarray,
+    path_failed: np.ndarray,
     next_interior: np.ndarray,
     light: np.ndarray,
     edges: np.ndarray,
@@ -88,6 +94,9 @@ def learn_on_table(
             row ``i`` of the plain table, shape (n_interior + 1, n_interior)
             (:class:`qdsega.agent.world.Transitions`).
         context_dx, context_dy, context_dtheta, context_failed: those rows, shape (R, A).
+        path_child, path_dx, path_dy, path_dtheta, path_failed: remembered trials
+            (:class:`qdsega.agent.world.Paths`): node reached by each action from each node,
+            shape (N, A), node 0 a trial's start; the move into each node, shape (N,).
         next_interior: interior state each action leads to, shape (A,).
         light: light position (x, y) (m).
         edges: exterior bin edges (rad), shape (n_exterior,).
@@ -119,7 +128,7 @@ def learn_on_table(
         )
         x, y, theta = 0.0, 0.0, 0.0
         d = d_start
-        previous, interior = -1, 0
+        previous, interior, node = -1, 0, 0
         exterior = exterior_state(x, y, theta, light_x, light_y, edges)
         fell[trial] = False
         for _ in range(trial_steps):
@@ -128,20 +137,24 @@ def learn_on_table(
             uses[a] += 1
             steps += 1
             old = q[s, a]
-            r = context[previous if previous >= 0 else n_interior, interior]
-            if failed[interior, a] if r < 0 else context_failed[r, a]:
+            node = path_child[node, a] if node >= 0 else -1
+            if node >= 0:
+                fails = path_failed[node]
+                mx, my, mt = path_dx[node], path_dy[node], path_dtheta[node]
+            else:
+                r = context[previous if previous >= 0 else n_interior, interior]
+                if r < 0:
+                    fails = failed[interior, a]
+                    mx, my, mt = dx[interior, a], dy[interior, a], dtheta[interior, a]
+                else:
+                    fails = context_failed[r, a]
+                    mx, my, mt = context_dx[r, a], context_dy[r, a], context_dtheta[r, a]
+            if fails:
                 q[s, a] = (1.0 - alpha) * old + alpha * penalty
                 _update_top(q, s, old, q[s, a], row_top)
                 fell[trial] = True
                 break
-            if r < 0:
-                x, y, theta = move_pose(
-                    x, y, theta, dx[interior, a], dy[interior, a], dtheta[interior, a]
-                )
-            else:
-                x, y, theta = move_pose(
-                    x, y, theta, context_dx[r, a], context_dy[r, a], context_dtheta[r, a]
-                )
+            x, y, theta = move_pose(x, y, theta, mx, my, mt)
             d_new = math.hypot(light_x - x, light_y - y)
             previous, interior = interior, next_interior[a]
             exterior = exterior_state(x, y, theta, light_x, light_y, edges)

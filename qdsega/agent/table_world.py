@@ -33,7 +33,7 @@ class TableWorld:
         self.table = table
         self.task = task
         self._action = {row.tobytes(): a for a, row in enumerate(space.actions)}
-        self._previous, self._interior = -1, 0
+        self._previous, self._interior, self._node = -1, 0, 0
         self._pose: Pose = (0.0, 0.0, 0.0)
 
     @property
@@ -44,17 +44,19 @@ class TableWorld:
         return self.space.postures[0].copy()
 
     def start_trial(self) -> int:
-        self._previous, self._interior = -1, 0
+        self._previous, self._interior, self._node = -1, 0, 0
         self._pose = (0.0, 0.0, 0.0)
         return self.task.exterior(self._pose)
 
     def command(self, posture: np.ndarray) -> StepResult:
         a = self._action[np.asarray(posture, dtype=np.int64).tobytes()]
-        t, i = self.table.row(self._previous, self._interior)
-        if t.failed[i, a]:
+        dx, dy, dtheta, failed, self._node = self.table.move(
+            self._node, self._previous, self._interior, a
+        )
+        if failed:
             return StepResult(self.task.penalty, self.task.exterior(self._pose), True)
         before = self._pose
-        self._pose = move_pose(*before, t.dx[i, a], t.dy[i, a], t.dtheta[i, a])
+        self._pose = move_pose(*before, dx, dy, dtheta)
         self._previous, self._interior = self._interior, int(self.space.next_interior[a])
         return StepResult(
             self.task.reward(before, self._pose), self.task.exterior(self._pose), False

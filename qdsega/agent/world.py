@@ -6,9 +6,9 @@ fails. Two kinds of world:
 * A **transition table** (:class:`TransitionProvider`): the outcome of commanding posture ``j``
   from posture ``i`` does not depend on where the robot is, so it is a table of body-frame
   moves ``(dx, dy, dtheta, failed)``, optionally refined by the posture ``h`` the robot came
-  from (a moving body carries its last move into the next). The Minimal Simulation Model is
-  one (analytic), a simulator measured once per transition is another. The compiled learning
-  loop runs on it.
+  from (a moving body carries its last move into the next) and by whole trials remembered
+  command by command (:class:`Paths`). The Minimal Simulation Model is one (analytic), a
+  simulator measured once per transition is another. The compiled learning loop runs on it.
 * A **step-by-step world** (:class:`World`): anything else; the plain Python loop runs on it.
 """
 
@@ -18,6 +18,46 @@ from dataclasses import dataclass
 from typing import Protocol, runtime_checkable
 
 import numpy as np
+
+
+@dataclass(frozen=True)
+class Paths:
+    """Trials remembered move by move: a tree of the commands sent since a trial's start.
+
+    Deterministic physics moves a robot the same way whenever it is sent down the same
+    sequence of commands from the start of a trial, so a walk through the table that follows a
+    remembered trial moves exactly as that trial did, however the same postures moved in other
+    trials.
+
+    Attributes:
+        child: ``child[k, a]``: the node reached by commanding target column ``a`` at node
+            ``k``, or -1; node 0 is the start of a trial; shape (N, m).
+        dx, dy, dtheta: the move into each node, in the body frame at its start, shape (N,)
+            (m, m, rad); node 0's are unused.
+        failed: the command into each node failed (its trial ended there), shape (N,).
+    """
+
+    child: np.ndarray
+    dx: np.ndarray
+    dy: np.ndarray
+    dtheta: np.ndarray
+    failed: np.ndarray
+
+    def __post_init__(self) -> None:
+        n = len(self.child)
+        if np.ndim(self.child) != 2 or n < 1:
+            raise ValueError(f"child must be (N >= 1, m), got {np.shape(self.child)}")
+        for name in ("dx", "dy", "dtheta", "failed"):
+            if np.shape(getattr(self, name)) != (n,):
+                raise ValueError(f"{name} has shape {np.shape(getattr(self, name))}, not ({n},)")
+        if np.any(self.child >= n) or np.any(self.child < -1) or np.any(self.child == 0):
+            raise ValueError(f"child nodes must be -1 or 1 .. {n - 1}")
+
+    @classmethod
+    def none(cls, targets: int) -> Paths:
+        """No remembered trial: a start node without children."""
+        zeros = np.zeros(1)
+        return cls(np.full((1, targets), -1, dtype=np.int64), zeros, zeros, zeros, zeros > 0)
 
 
 @dataclass(frozen=True)
@@ -35,6 +75,8 @@ class Transitions:
             is where the trial started), or -1 where the plain row ``i`` holds; shape
             (n + 1, n), or None for none.
         in_context: those rows, shape (R, m) (a table of its own, without context).
+        paths: remembered trials over these targets, which rule wherever a walk from the
+            start of a trial follows one (``from`` row 0 is where trials start); None for none.
     """
 
     dx: np.ndarray
@@ -43,6 +85,7 @@ class Transitions:
     failed: np.ndarray
     context: np.ndarray | None = None
     in_context: Transitions | None = None
+    paths: Paths | None = None
 
     def __post_init__(self) -> None:
         shape = np.shape(self.dx)
@@ -63,6 +106,8 @@ class Transitions:
                 raise ValueError("in_context must be plain rows of the same targets")
             if np.any(self.context >= rows) or np.any(self.context < -1):
                 raise ValueError(f"context rows must be -1 .. {rows - 1}")
+        if self.paths is not None and np.shape(self.paths.child)[1] != shape[1]:
+            raise ValueError(f"paths have {np.shape(self.paths.child)[1]} targets, not {shape[1]}")
 
     def row(self, h: int, i: int) -> tuple[Transitions, int]:
         """The table and row that hold the moves from ``i`` reached from ``h`` (-1: the trial
@@ -73,21 +118,43 @@ class Transitions:
                 return self.in_context, r
         return self, i
 
+    def move(self, node: int, h: int, i: int, a: int) -> tuple[float, float, float, bool, int]:
+        """Commanding target ``a`` from ``i`` (reached from ``h``) at path node ``node`` (0 at
+        a trial's start, -1 off every remembered trial): dx (m), dy (m), dtheta (rad), failed,
+        and the path node it leads to. The compiled loop applies the same rule."""
+        paths = self.paths or Paths.none(np.shape(self.dx)[1])
+        k = int(paths.child[node, a]) if node >= 0 else -1
+        if k >= 0:
+            return (float(paths.dx[k]), float(paths.dy[k]), float(paths.dtheta[k]),
+                    bool(paths.failed[k]), k)  # fmt: skip
+        t, r = self.row(h, i)
+        return float(t.dx[r, a]), float(t.dy[r, a]), float(t.dtheta[r, a]), bool(t.failed[r, a]), -1
+
     def compiled(self) -> tuple[np.ndarray, ...]:
         """The arrays the compiled loop takes: dx, dy, dtheta, failed (n, m); context
-        (n + 1, n) (all -1 without context); and the in-context rows' dx, dy, dtheta, failed
-        (R, m)."""
+        (n + 1, n) (all -1 without context); the in-context rows' dx, dy, dtheta, failed
+        (R, m); and the paths' child (N, m), dx, dy, dtheta, failed (N,)."""
         n, m = np.shape(self.dx)
         plain = tuple(
             np.ascontiguousarray(a, dtype=np.float64) for a in (self.dx, self.dy, self.dtheta)
         )
         failed = np.ascontiguousarray(self.failed, dtype=np.bool_)
+        paths = self.paths or Paths.none(m)
+        walk = (
+            np.ascontiguousarray(paths.child, dtype=np.int64),
+            *(
+                np.ascontiguousarray(a, dtype=np.float64)
+                for a in (paths.dx, paths.dy, paths.dtheta)
+            ),
+            np.ascontiguousarray(paths.failed, dtype=np.bool_),
+        )
         if self.context is None or self.in_context is None:
             empty = np.zeros((0, m))
             return (*plain, failed, np.full((n + 1, n), -1, dtype=np.int64), empty, empty, empty,
-                    np.zeros((0, m), dtype=np.bool_))  # fmt: skip
+                    np.zeros((0, m), dtype=np.bool_), *walk)  # fmt: skip
         inner = self.in_context.compiled()
-        return (*plain, failed, np.ascontiguousarray(self.context, dtype=np.int64), *inner[:4])
+        return (*plain, failed, np.ascontiguousarray(self.context, dtype=np.int64), *inner[:4],
+                *walk)  # fmt: skip
 
 
 class TransitionProvider(Protocol):

@@ -62,6 +62,7 @@ def save_checkpoint(run: Path, checkpoint: Checkpoint) -> None:
         "poses": checkpoint.poses,
         "exact_poses": checkpoint.exact_poses,
         "gait": checkpoint.gait,
+        "elite": state.elite[0],
         **{f"world_{name}": array for name, array in checkpoint.world.items()},
     }
     if state.previous is not None:
@@ -78,9 +79,17 @@ def save_checkpoint(run: Path, checkpoint: Checkpoint) -> None:
         "rng_state": state.rng_state,
         "env_steps": checkpoint.env_steps,
         "elapsed_s": checkpoint.elapsed_s,
+        "elite_m": state.elite[1],
     }
     with replaced_atomically(run / CHECKPOINT_FILE) as partial:
         np.savez(partial, meta=np.array(json.dumps(meta)), **arrays)
+
+
+def _elite(data: np.lib.npyio.NpzFile, meta: dict) -> tuple[np.ndarray, float | None]:
+    """The elite of a checkpoint; none in one written before elitism existed."""
+    if "elite" not in data:
+        return np.zeros((0, data["population"].shape[1]), dtype=np.int64), None
+    return data["elite"], meta["elite_m"]
 
 
 def load_checkpoint(run: Path) -> Checkpoint | None:
@@ -111,6 +120,7 @@ def load_checkpoint(run: Path) -> Checkpoint | None:
                     population=data["population"],
                     rng_state=meta["rng_state"],
                     previous=previous,
+                    elite=_elite(data, meta),
                 ),
                 metrics=data["metrics"],
                 poses=data["poses"],

@@ -67,6 +67,11 @@ class TrainingConfig:
         explore_trials: memo mode with ``ground_table``: trials of each generation's
             Q-table drawn at eq. (18)'s last temperature and replayed with exact physics,
             besides the greedy one, to ground the table where the learner may go next.
+        optimism: memo mode with ``ground_table``: when positive, one more exact trial per
+            generation, the greedy policy of a further learning phase on the table whose
+            unobserved forward moves are the measured ones plus ``optimism`` times the RMS
+            gap between measured and observed moves (an upper confidence bound), so that
+            exact physics tries what the table may underrate; 0 for none (-).
     """
 
     preset: str = DEFAULT_PRESET
@@ -81,12 +86,15 @@ class TrainingConfig:
     workers: int = 2
     ground_table: bool = True
     explore_trials: int = 4
+    optimism: float = 0.0
 
     def __post_init__(self) -> None:
         if self.workers < 1:
             raise ValueError(f"workers must be at least 1, got {self.workers}")
         if self.explore_trials < 0:
             raise ValueError(f"explore_trials must not be negative, got {self.explore_trials}")
+        if not (self.optimism >= 0 and math.isfinite(self.optimism)):
+            raise ValueError(f"optimism must not be negative, got {self.optimism}")
 
     def to_dict(self) -> dict[str, Any]:
         """Plain types only (tuples become lists), for YAML."""

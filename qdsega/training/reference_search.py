@@ -34,7 +34,6 @@ import math
 import os
 import sys
 import time
-from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -46,9 +45,8 @@ from qdsega.assembly import assemble
 from qdsega.atomic import replaced_atomically
 from qdsega.description import Formation
 from qdsega.locomotion.cpg import CPGGait
-from qdsega.locomotion.env import LocomotionEnv, replay_postures
+from qdsega.locomotion.exact_trials import ExactTrials
 from qdsega.locomotion.lower_agent import LowerAgentConfig
-from qdsega.parallel import worker_pool
 from qdsega.simulation import PhysicsSettings
 from qdsega.task import TaskConfig
 
@@ -191,17 +189,7 @@ def user_cache_dir() -> Path:
     return (Path(root) if root else Path.home() / ".cache" / "qdsega") / "references"
 
 
-# -- the rules: the one place that builds the env and describes it -----------------------------
-
-
-def _env(
-    formation: Formation,
-    task: TaskConfig,
-    lower_agent: LowerAgentConfig,
-    physics: PhysicsSettings,
-) -> LocomotionEnv:
-    """The env of learning and evaluation."""
-    return LocomotionEnv(formation=formation, task=task, lower_agent=lower_agent, physics=physics)
+# -- the rules: what a result depends on -----------------------------------------------------
 
 
 def _rules(task: TaskConfig, lower_agent: LowerAgentConfig, physics: PhysicsSettings) -> dict:
@@ -376,21 +364,22 @@ def _search(
     best: tuple[float, CPGGait] | None = None
     history: list[float | None] = []
     evaluations = 0
-    with _Trials(formation, task, lower_agent, physics, workers) as trials:
+    rules = {"task": task, "lower_agent": lower_agent, "physics": physics}
+    with ExactTrials(formation=formation, workers=workers, **rules) as trials:
         while evaluations + es.popsize <= budget_trials:
             if es.stop():
                 es = cma.CMAEvolutionStrategy(rng.uniform(size=3 * n + 1), SIGMA0, options)
             points = es.ask()
             gaits = [_gait(formation, np.asarray(x)) for x in points]
-            outcomes = trials.run([g.postures(formation, steps=steps) for g in gaits])
+            outcomes = trials.replays([g.postures(formation, steps=steps) for g in gaits])
             costs = []
-            for gait, (distance, completed, failed) in zip(gaits, outcomes, strict=True):
-                if failed:
-                    costs.append(FAILED_COST + (steps - completed) / steps)
+            for gait, outcome in zip(gaits, outcomes, strict=True):
+                if outcome.failure is not None:
+                    costs.append(FAILED_COST + (steps - outcome.completed) / steps)
                     continue
-                costs.append(-distance)
-                if best is None or distance > best[0]:
-                    best = (distance, gait)
+                costs.append(-outcome.distance_m)
+                if best is None or outcome.distance_m > best[0]:
+                    best = (outcome.distance_m, gait)
             es.tell(points, costs)
             evaluations += len(points)
             history.append(None if best is None else best[0])
@@ -400,66 +389,3 @@ def _search(
             "failing"
         )
     return best[1], best[0], evaluations, history
-
-
-class _Trials:
-    """Runs trials in one env of this process, or spread over worker processes that each
-    build one env. Every trial starts from the env's settled snapshot, and a restored
-    snapshot replays exactly (``PhysicsSettings.deterministic_pairs``), so results do not
-    depend on the worker count or on which worker ran which trial."""
-
-    def __init__(
-        self,
-        formation: Formation,
-        task: TaskConfig,
-        lower_agent: LowerAgentConfig,
-        physics: PhysicsSettings,
-        workers: int,
-    ) -> None:
-        rules = (formation, task, lower_agent, physics)
-        self._env: LocomotionEnv | None = None
-        self._pool: ProcessPoolExecutor | None = None
-        if workers > 1:
-            self._pool = worker_pool(workers, _init_worker, rules)
-        else:
-            self._env = _env(*rules)
-
-    def __enter__(self) -> _Trials:
-        return self
-
-    def __exit__(self, *exc: object) -> None:
-        if self._pool is not None:
-            self._pool.shutdown(cancel_futures=True)
-        if self._env is not None:
-            self._env.close()
-
-    def run(self, postures: list[np.ndarray]) -> list[tuple[float, int, bool]]:
-        """Each posture sequence (steps, J) as one trial: (distance m, steps completed,
-        failed), in order."""
-        if self._env is not None:
-            return [_trial(self._env, p) for p in postures]
-        assert self._pool is not None
-        return list(self._pool.map(_trial_in_worker, postures))
-
-
-def _trial(env: LocomotionEnv, postures: np.ndarray) -> tuple[float, int, bool]:
-    replay = replay_postures(env, postures)
-    return replay.distance_m, replay.completed, replay.failure is not None
-
-
-_worker_env: LocomotionEnv | None = None
-
-
-def _init_worker(
-    formation: Formation,
-    task: TaskConfig,
-    lower_agent: LowerAgentConfig,
-    physics: PhysicsSettings,
-) -> None:
-    global _worker_env
-    _worker_env = _env(formation, task, lower_agent, physics)
-
-
-def _trial_in_worker(postures: np.ndarray) -> tuple[float, int, bool]:
-    assert _worker_env is not None, "worker not initialised"
-    return _trial(_worker_env, postures)

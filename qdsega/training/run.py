@@ -251,7 +251,8 @@ def _run(
             progress.start(completed=resumed_at, generations=config.agent.genetic.generations)
         try:
             for generation in learner.run():
-                exact = world.replay(generation)
+                exact = world.replay(generation, learner)
+                learner.verify(generation, exact)
                 elapsed = first_elapsed + time.perf_counter() - session_start
                 checkpoint = _advance(checkpoint, generation, exact, learner, world, elapsed)
                 world.save(out)

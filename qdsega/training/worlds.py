@@ -22,8 +22,8 @@ import numpy as np
 
 from qdsega.agent.boltzmann import temperature
 from qdsega.agent.grounding import GroundedTransitions
-from qdsega.agent.learner import Generation
-from qdsega.agent.policy import BoltzmannPolicy, Rollout, rollout
+from qdsega.agent.learner import QDSEGA, Generation
+from qdsega.agent.policy import BoltzmannPolicy, Policy, Rollout
 from qdsega.agent.world import TransitionProvider, World
 from qdsega.description import Formation
 from qdsega.errors import FormationError
@@ -33,6 +33,7 @@ from qdsega.training.config import TrainingConfig
 
 if TYPE_CHECKING:
     from qdsega.locomotion.env import LocomotionEnv
+    from qdsega.locomotion.exact_trials import ExactTrials
     from qdsega.rendering.camera import CameraConfig
 
 MEMO_FILE = "transitions.npz"
@@ -46,46 +47,62 @@ class TrainingWorld:
     Attributes:
         provider: the world the learner runs in: a posture-transition table, or a
             step-by-step world (exact physics).
-        exact: exact physics to replay each generation's greedy policy in; None where
-            ``provider`` is exact itself (the MSM, PyBullet).
+        exact: exact-physics trials to replay each generation's greedy policy in (spread
+            over the run's workers); None where ``provider`` is exact itself (the MSM,
+            PyBullet).
         grounded: the table that exact replays correct (memo mode with ``ground_table``;
             it is also ``provider``), else None.
         task: the rules.
         explore: exploring trials replayed with exact physics each generation besides the
             greedy one (memo mode), and the Boltzmann temperature they draw actions at.
-        seed: the run's seed; an exploring trial of generation ``g`` draws from a generator
-            seeded ``(seed, g)``, so a resumed run draws the same.
+        optimism: with a grounded table, the upper confidence bound (in RMS gaps) of one more
+            exploring trial, the greedy policy learnt on that bound; 0 for none.
+        seed: the run's seed; exploring trial ``k`` of generation ``g`` draws from a generator
+            seeded ``(seed, g, k)``, so a resumed run draws the same, whichever worker runs it.
         optimum: the exact optimum where one is known (the MSM), else None.
         layout: the legs, for gait figures; None for a legless formation.
     """
 
     provider: TransitionProvider | World
-    exact: World | None
+    exact: ExactTrials | None
     grounded: GroundedTransitions | None
     task: Task
     optimum: Optimum | None
     layout: LegLayout | None
     explore: tuple[int, float] = (0, 1.0)
+    optimism: float = 0.0
     seed: int = 0
 
-    def replay(self, generation: Generation) -> Rollout:
+    def replay(self, generation: Generation, learner: QDSEGA) -> Rollout:
         """The generation's greedy policy replayed with exact physics (its own greedy trial
         where the learner's world is exact). A grounded table learns its moves, and those of
-        ``explore`` trials of the generation's policy at the Boltzmann temperature."""
+        ``explore`` trials of the generation's policy at the Boltzmann temperature and, with
+        ``optimism``, of the greedy policy ``learner`` learns on the table's upper bound."""
         if self.exact is None:
             return generation.greedy
-        steps, start = self.task.trial_steps, generation.space.postures[0]
-        greedy = generation.policy
+        policies: list[Policy] = [generation.policy]
         if self.grounded is not None:  # exploring trials first: the greedy one is seen last
             trials, temperature = self.explore
-            rng = np.random.default_rng([self.seed, generation.index])
-            policy = BoltzmannPolicy(greedy=greedy, temperature=temperature, rng=rng)
-            for _ in range(trials):
-                self.grounded.observe(rollout(policy, self.exact, steps=steps), start)
-        trial = rollout(greedy, self.exact, steps=steps)
+            if self.optimism > 0:
+                space = generation.space
+                upper = self.grounded.transitions(
+                    space.postures, space.actions, confidence=self.optimism
+                )
+                rng = np.random.default_rng([self.seed, generation.index, trials])
+                policies.insert(0, learner.explore(generation, upper, rng))
+            policies = [
+                BoltzmannPolicy(
+                    greedy=generation.policy,
+                    temperature=temperature,
+                    rng=np.random.default_rng([self.seed, generation.index, k]),
+                )
+                for k in range(trials)
+            ] + policies
+        outcomes = self.exact.rollouts(policies, steps=self.task.trial_steps)
         if self.grounded is not None:
-            self.grounded.observe(trial, start)
-        return trial
+            for trial in outcomes:
+                self.grounded.observe(trial, generation.space.postures[0])
+        return outcomes[-1]
 
     def state(self) -> dict[str, np.ndarray]:
         """What the run's history put into the world (grounded observations), as arrays."""
@@ -141,9 +158,11 @@ def build_world(formation: Formation, config: TrainingConfig, run: Path) -> Trai
     layout = LegLayout.from_formation(formation) if formation.legs else None
     from qdsega.locomotion.env_world import EnvWorld  # starts PyBullet: only when needed
 
-    env = exact_env(formation, config)
     if config.sim == "pybullet":
-        return TrainingWorld(EnvWorld(env=env), None, None, task, None, layout)
+        return TrainingWorld(
+            EnvWorld(env=exact_env(formation, config)), None, None, task, None, layout
+        )
+    from qdsega.locomotion.exact_trials import ExactTrials
     from qdsega.locomotion.memo import MeasuredTransitions
 
     memo = MeasuredTransitions(
@@ -163,14 +182,22 @@ def build_world(formation: Formation, config: TrainingConfig, run: Path) -> Trai
         learning.temperature_rate,
         learning.temperature_offset,
     )
+    exact = ExactTrials(
+        formation=formation,
+        task=config.task,
+        lower_agent=config.lower_agent,
+        physics=config.physics,
+        workers=config.workers,
+    )
     return TrainingWorld(
         provider,
-        EnvWorld(env=env),
+        exact,
         grounded,
         task,
         None,
         layout,
         explore=(config.explore_trials, last),
+        optimism=config.optimism,
         seed=config.seed,
     )
 

@@ -8,9 +8,13 @@ import pytest
 
 from qdsega.agent.grounding import GroundedTransitions
 from qdsega.agent.policy import Rollout
+from qdsega.agent.space import ExplorationSpace
+from qdsega.agent.table_world import TableWorld
 from qdsega.agent.world import Transitions
+from qdsega.task import Task, TaskConfig
 
 P = np.array([[0], [1], [2]])  # three postures of a one-joint body
+_TASK = Task(config=TaskConfig(), light_xy=(50.0, 0.0))
 
 
 class _Base:
@@ -97,3 +101,39 @@ def test_in_context_the_latest_move_holds_and_a_trial_start_is_a_context():
     assert start is t.in_context and start.dx[row, 1] == pytest.approx(0.2)
     after, row = t.row(0, 1)
     assert after.dx[row, 2] == pytest.approx(0.1)
+
+
+def test_a_remembered_trial_is_walked_exactly_whatever_later_trials_saw():
+    """The same commands from a trial's start move as they did, even after another trial
+    entered the same postures in the same context with other moves; a walk that leaves the
+    remembered commands falls back to the context and plain rows."""
+    table = GroundedTransitions(base=_Base())
+    table.observe(_trial([1, 2, 1, 2], [0.0, 0.1, 0.3, 0.6, 1.0]), P[0])
+    table.observe(_trial([2, 1, 2], [0.0, 0.05, 0.1, 0.12]), P[0])  # 1 -> 2 after 2 -> 1 again
+    space = ExplorationSpace.from_population(P[1:], P[0])
+    world = TableWorld(
+        space=space, table=table.transitions(space.postures, space.actions), task=_TASK
+    )
+    world.start_trial()
+    for posture in ([1], [2], [1], [2]):
+        world.command(np.array(posture))
+    assert world.pose()[0] == pytest.approx(1.0)  # the first trial, move for move
+    world.start_trial()
+    for posture in ([1], [2], [2]):  # leaves the first trial at its third command
+        world.command(np.array(posture))
+    t = table.transitions(space.postures, space.actions)
+    assert world.pose()[0] == pytest.approx(0.1 + 0.2 + t.dx[2, 1])
+
+
+def test_paths_round_trip_and_refuse_a_malformed_tree():
+    table = GroundedTransitions(base=_Base())
+    table.observe(_trial([1, 2], [0.0, 0.1, 0.3]), P[0])
+    table.observe(_trial([1, 1], [0.0, 0.1, 0.1], failed=True), P[0])
+    state = table.state()
+    assert state["path_parents"].tolist() == [0, 1, 1]  # 1, then 2 or (failed) 1 after it
+    copy = GroundedTransitions(base=_Base())
+    copy.restore(state)
+    assert np.array_equal(copy.transitions(P, P).paths.child, table.transitions(P, P).paths.child)
+    state["path_parents"] = np.array([0, 5, 1])
+    with pytest.raises(ValueError, match="do not fit"):
+        copy.restore(state)

@@ -3,6 +3,8 @@ the same rewards for the same postures; the Python loop equals the compiled one 
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 import pytest
 
@@ -12,7 +14,7 @@ from qdsega.agent.genetic import random_population
 from qdsega.agent.qlearning import learn_on_table
 from qdsega.agent.space import ExplorationSpace
 from qdsega.agent.table_world import TableWorld
-from qdsega.agent.world import Transitions
+from qdsega.agent.world import Paths, Transitions
 from qdsega.agent.world_loop import learn_on_world
 from qdsega.description import load_formation
 from qdsega.locomotion.env import LocomotionEnv
@@ -130,8 +132,27 @@ def _with_context(table: Transitions, gen: np.random.Generator) -> Transitions:
     )
 
 
-@pytest.mark.parametrize("context", [False, True])
-def test_python_world_loop_matches_the_compiled_table_loop(context):
+def _with_paths(table: Transitions, gen: np.random.Generator) -> Transitions:
+    """``table`` with a random tree of 60 remembered moves."""
+    m = table.dx.shape[1]
+    child = np.full((60, m), -1, dtype=np.int64)
+    for node in range(1, 60):
+        parent = int(gen.integers(node))
+        free = np.flatnonzero(child[parent] < 0)
+        if len(free):
+            child[parent, gen.choice(free)] = node
+    paths = Paths(
+        child=child,
+        dx=gen.uniform(-0.05, 0.1, 60),
+        dy=gen.uniform(-0.02, 0.02, 60),
+        dtheta=gen.uniform(-0.2, 0.2, 60),
+        failed=gen.random(60) < 0.1,
+    )
+    return replace(table, paths=paths)
+
+
+@pytest.mark.parametrize("extra", ["none", "context", "paths", "both"])
+def test_python_world_loop_matches_the_compiled_table_loop(extra):
     formation = load_formation(ASSEMBLIES_DIR / "quadruped.yaml")
     model = MinimalSimulationModel(legs=LegLayout.from_formation(formation), params=MSMParameters())
     preset = PRESETS["paper-legged"]
@@ -139,8 +160,10 @@ def test_python_world_loop_matches_the_compiled_table_loop(context):
     population = random_population(np.full(8, 2), 12, np.random.default_rng(1))
     space = ExplorationSpace.from_population(population, model.start_posture())
     table = model.transitions(space.postures, space.actions)
-    if context:
+    if extra in ("context", "both"):
         table = _with_context(table, np.random.default_rng(2))
+    if extra in ("paths", "both"):
+        table = _with_paths(table, np.random.default_rng(3))
     schedule = np.array(
         [learning.temperature_scale, learning.temperature_rate, learning.temperature_offset]
     )

@@ -1,0 +1,113 @@
+"""Exact-physics trials in batches: in this process, or spread over worker processes.
+
+A batch is a list of open-loop posture sequences (:meth:`ExactTrials.replays`: reference
+gaits) or of closed-loop policies (:meth:`ExactTrials.rollouts`: a training run's greedy and
+exploring trials). Each worker builds one :class:`~qdsega.locomotion.env.LocomotionEnv`; every
+trial starts from the env's settled snapshot, which restores exactly
+(``PhysicsSettings.deterministic_pairs``), so a trial's outcome does not depend on the number
+of workers or on which worker ran it, and a batch comes back in the order it was given.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from concurrent.futures import ProcessPoolExecutor
+
+import numpy as np
+
+from qdsega.agent.policy import Policy, Rollout, rollout
+from qdsega.description import Formation
+from qdsega.locomotion.env import LocomotionEnv, Replay, replay_postures
+from qdsega.locomotion.env_world import EnvWorld
+from qdsega.locomotion.lower_agent import LowerAgentConfig
+from qdsega.parallel import worker_pool
+from qdsega.simulation import PhysicsSettings
+from qdsega.task import TaskConfig
+
+
+class ExactTrials:
+    """Trials of one formation under one set of rules.
+
+    Args:
+        formation: the robot.
+        task: trial length, reward, penalty and exterior bins.
+        lower_agent: how postures are executed and when that fails.
+        physics: engine settings.
+        workers: processes running trials (1: one env in this process).
+    """
+
+    def __init__(
+        self,
+        *,
+        formation: Formation,
+        task: TaskConfig,
+        lower_agent: LowerAgentConfig,
+        physics: PhysicsSettings,
+        workers: int,
+    ) -> None:
+        if workers < 1:
+            raise ValueError(f"workers must be at least 1, got {workers}")
+        rules = (formation, task, lower_agent, physics)
+        self._env: LocomotionEnv | None = None
+        self._pool: ProcessPoolExecutor | None = None
+        if workers > 1:
+            self._pool = worker_pool(workers, _init_worker, rules)
+        else:
+            self._env = _env(*rules)
+
+    def replays(self, postures: Sequence[np.ndarray]) -> list[Replay]:
+        """Each posture sequence (steps, J) of level indices played as one trial, in order."""
+        if self._env is not None:
+            return [replay_postures(self._env, p) for p in postures]
+        assert self._pool is not None
+        return list(self._pool.map(_replay_in_worker, postures))
+
+    def rollouts(self, policies: Sequence[Policy], *, steps: int) -> list[Rollout]:
+        """Each policy run for one trial of at most ``steps`` commands, in order. A policy that
+        draws from a random generator draws from its own copy in a worker (give each its own
+        generator)."""
+        if self._env is not None:
+            world = EnvWorld(env=self._env)
+            return [rollout(policy, world, steps=steps) for policy in policies]
+        assert self._pool is not None
+        return list(self._pool.map(_rollout_in_worker, policies, [steps] * len(policies)))
+
+    def close(self) -> None:
+        if self._pool is not None:
+            self._pool.shutdown(cancel_futures=True)
+            self._pool = None
+        if self._env is not None:
+            self._env.close()
+            self._env = None
+
+    def __enter__(self) -> ExactTrials:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
+
+
+def _env(
+    formation: Formation, task: TaskConfig, lower_agent: LowerAgentConfig, physics: PhysicsSettings
+) -> LocomotionEnv:
+    return LocomotionEnv(formation=formation, task=task, lower_agent=lower_agent, physics=physics)
+
+
+_worker_env: LocomotionEnv | None = None
+
+
+def _init_worker(
+    formation: Formation, task: TaskConfig, lower_agent: LowerAgentConfig, physics: PhysicsSettings
+) -> None:
+    global _worker_env
+    _worker_env = _env(formation, task, lower_agent, physics)
+
+
+def _replay_in_worker(postures: np.ndarray) -> Replay:
+    assert _worker_env is not None, "worker not initialised"
+    return replay_postures(_worker_env, postures)
+
+
+def _rollout_in_worker(policy: Policy, steps: int) -> Rollout:
+    assert _worker_env is not None, "worker not initialised"
+    return rollout(policy, EnvWorld(env=_worker_env), steps=steps)
