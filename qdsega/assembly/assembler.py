@@ -14,6 +14,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
+from trimesh.transformations import euler_from_matrix, euler_matrix, rotation_matrix
 
 from qdsega.assembly.mass_properties import MassProperties, link_mass_properties
 from qdsega.assembly.urdf_checks import check_urdf
@@ -133,13 +134,19 @@ def _inertial(props: MassProperties) -> ET.Element:
 
 
 def _joint(unit: PlacedUnit, connector: Connector) -> ET.Element:
-    """The joint that attaches ``unit`` at its parent's ``connector``."""
+    """The joint that attaches ``unit`` at its parent's ``connector``; a locked joint is a
+    fixed one whose frame is turned by the locked angle about the joint's axis."""
     assert unit.parent is not None and unit.joint_name is not None
     kind = "revolute" if unit.is_actuated else "fixed"
     joint = ET.Element("joint", name=unit.joint_name, type=kind)
     ET.SubElement(joint, "parent", link=unit.parent)
     ET.SubElement(joint, "child", link=unit.name)
-    ET.SubElement(joint, "origin", xyz=_vector(connector.xyz_m), rpy=_vector(connector.rpy_rad))
+    rpy = connector.rpy_rad
+    if unit.locked_rad is not None:
+        assert unit.axis is not None
+        turned = euler_matrix(*rpy, axes="sxyz") @ rotation_matrix(unit.locked_rad, unit.axis)
+        rpy = euler_from_matrix(turned, axes="sxyz")
+    ET.SubElement(joint, "origin", xyz=_vector(connector.xyz_m), rpy=_vector(rpy))
     if unit.is_actuated:
         spec = unit.unit_type.joint
         assert spec is not None and unit.axis is not None

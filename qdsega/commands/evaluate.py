@@ -5,6 +5,8 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
+from qdsega.errors import FormationError
+
 NAME = "evaluate"
 HELP = "replay a run's greedy policy in PyBullet and compare it with a reference gait"
 
@@ -18,12 +20,32 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         help="exact trials the CMA-ES reference search may run (default 600; 0: no search); "
         "its result is cached, shipped references first",
     )
+    parser.add_argument(
+        "--formation",
+        type=Path,
+        metavar="OTHER.yaml",
+        help="replay the policy on another formation instead (a changed body: joints matched "
+        "by name); writes RUN/evaluation-on-NAME.json",
+    )
 
 
 def run(args: argparse.Namespace) -> int:
     # Imported here: it starts PyBullet, which the other commands need not load.
-    from qdsega.training.evaluation import evaluate_run
+    from qdsega.training.evaluation import evaluate_on, evaluate_run
+    from qdsega.training.reconfiguration import describe
     from qdsega.training.run_folder import EVALUATION_FILE
+
+    if args.formation is not None:
+        if args.reference_trials is not None:
+            raise FormationError("--reference-trials does not go with --formation")
+        result, file = evaluate_on(args.run, args.formation)
+        joints = describe(result["joints"])
+        failure = "" if result["failure"] is None else f" (failed: {result['failure']})"
+        print(
+            f"{result['policy_of']} policy on {result['formation']}: "
+            f"{result['distance_m']:.4f} m with exact physics{failure}; {joints} -> {file}"
+        )
+        return 0
 
     budget = {} if args.reference_trials is None else {"reference_trials": args.reference_trials}
     result = evaluate_run(args.run, **budget)

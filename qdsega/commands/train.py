@@ -18,7 +18,7 @@ HELP = "learn locomotion with QDSEGA and write a run folder (or continue one wit
 RUNS_DIR = Path("runs")
 _RUN_OPTIONS = (
     "sim", "workers", "preset", "config", "seed", "out", "overwrite", "generations", "trials",
-    "light_bearing_deg",
+    "light_bearing_deg", "warm_start", "allow_unmatched",
 )  # fmt: skip
 """Options that configure a new run, which --resume does not take."""
 """Where run folders go when --out is not given."""
@@ -65,6 +65,18 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--light-bearing-deg", type=float, metavar="D", help="move the light to this bearing"
     )
+    parser.add_argument(
+        "--warm-start",
+        type=Path,
+        metavar="RUN",
+        help="start from a finished run's last population and Q-table, its joints matched to "
+        "this formation's by name (a changed body relearns from what it knew)",
+    )
+    parser.add_argument(
+        "--allow-unmatched",
+        action="store_true",
+        help="with --warm-start: start even from a run sharing no joint name with FORMATION",
+    )
     parser.add_argument("--quiet", action="store_true", help="no progress display")
 
 
@@ -87,8 +99,17 @@ def run(args: argparse.Namespace) -> int:
         args.formation = resolve_formation(args.formation)
         config = run_config(args)
         out = args.out or RUNS_DIR / f"{args.formation.stem}-{config.sim}-seed{config.seed}"
+        if args.allow_unmatched and args.warm_start is None:
+            raise FormationError("--allow-unmatched goes with --warm-start RUN")
         start = partial(
-            train, args.formation, config, out, overwrite=args.overwrite, progress=progress
+            train,
+            args.formation,
+            config,
+            out,
+            overwrite=args.overwrite,
+            progress=progress,
+            warm_start=args.warm_start,
+            allow_unmatched=args.allow_unmatched,
         )
     try:
         summary = start()

@@ -64,9 +64,12 @@ class PlacedUnit:
         connector: the parent's connector this unit attaches to (None for the root).
         axis: joint axis in the joint frame, unit vector, shape (3,); None when the unit has no
             joint (root or passive unit).
-        levels_rad: discrete target angles the learner may command (rad); empty without joint.
+        levels_rad: discrete target angles the learner may command (rad); empty unless the
+            unit's joint is actuated (a locked joint has none).
         friction: friction of this unit's link.
         line: line of the formation file that declared it.
+        locked_rad: a broken joint, locked at this angle about ``axis`` (rad): it becomes a
+            fixed joint and no longer an action dimension; None for a working joint.
     """
 
     name: str
@@ -77,6 +80,7 @@ class PlacedUnit:
     levels_rad: tuple[float, ...]
     friction: Friction
     line: int | None = None
+    locked_rad: float | None = None
 
     @property
     def joint_name(self) -> str | None:
@@ -85,7 +89,8 @@ class PlacedUnit:
 
     @property
     def is_actuated(self) -> bool:
-        return self.axis is not None
+        """The unit has a working joint (not locked) that the learner commands."""
+        return self.axis is not None and self.locked_rad is None
 
 
 @dataclass(frozen=True)
@@ -108,6 +113,9 @@ class ActuatedJoint:
 @dataclass(frozen=True)
 class Leg:
     """A two-joint leg, for gait models (the MSM, section 4.1.2) and gait references.
+
+    A leg instance with a locked joint is a broken leg (:attr:`Formation.broken_legs`): its
+    units still belong to no trunk, but no gait model moves it.
 
     Convention: the swing joint's levels are ``[forward, back]`` and the lift joint's levels are
     ``[down, up]``, so the paper's leg states are 1 = (forward, down), 2 = (back, down),
@@ -138,7 +146,9 @@ class Formation:
         file: the YAML file it was read from.
         units: every unit, root first, parents before children.
         light: the light-source task.
-        legs: the legs in declaration order (front to back per side); empty for a snake.
+        legs: the working legs in declaration order (front to back per side); empty for a
+            snake.
+        broken_legs: leg instances with a locked joint, in declaration order.
     """
 
     name: str
@@ -147,6 +157,7 @@ class Formation:
     units: tuple[PlacedUnit, ...]
     light: Light
     legs: tuple[Leg, ...] = field(default=())
+    broken_legs: tuple[Leg, ...] = field(default=())
 
     @property
     def root(self) -> PlacedUnit:
@@ -171,10 +182,12 @@ class Formation:
     def rest_levels(self) -> tuple[int, ...]:
         """A standing start posture, as one level index per joint in :attr:`joints` order.
 
-        Legs stand: swing forward (level 0) and lift down (level 0). Every other joint takes
-        the level nearest to 0 rad (the first of equally near ones).
+        Legs stand: swing forward (level 0) and lift down (level 0), also the working joint of
+        a broken leg. Every other joint takes the level nearest to 0 rad (the first of equally
+        near ones).
         """
-        leg_joints = {leg.swing_joint for leg in self.legs} | {leg.lift_joint for leg in self.legs}
+        legs = self.legs + self.broken_legs
+        leg_joints = {leg.swing_joint for leg in legs} | {leg.lift_joint for leg in legs}
         return tuple(
             0
             if joint.name in leg_joints
@@ -190,8 +203,9 @@ class Formation:
 
     @property
     def trunk_units(self) -> tuple[PlacedUnit, ...]:
-        """Units that belong to no leg: a legged robot's trunk, or every unit of a snake."""
-        leg_units = {name for leg in self.legs for name in leg.units}
+        """Units that belong to no leg, working or broken: a legged robot's trunk, or every
+        unit of a snake."""
+        leg_units = {name for leg in self.legs + self.broken_legs for name in leg.units}
         return tuple(u for u in self.units if u.name not in leg_units)
 
     def legs_on(self, side: Side) -> tuple[Leg, ...]:

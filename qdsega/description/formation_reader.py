@@ -34,9 +34,11 @@ AXES = {"roll": (1.0, 0.0, 0.0), "pitch": (0.0, 1.0, 0.0), "yaw": (0.0, 0.0, 1.0
 
 _TOP_KEYS = ("name", "units", "light")
 _TOP_OPTIONAL = ("description", "friction", "templates", "units_dir")
-_UNIT_KEYS = ("name", "unit", "parent", "connector", "axis", "levels_deg", "friction", "repeat")
+_UNIT_KEYS = (
+    "name", "unit", "parent", "connector", "axis", "levels_deg", "locked_deg", "friction", "repeat"
+)  # fmt: skip
 _INSTANCE_KEYS = ("name", "template", "parent", "connector", "side", "overrides", "repeat")
-_OVERRIDE_KEYS = ("axis", "levels_deg", "friction")
+_OVERRIDE_KEYS = ("axis", "levels_deg", "locked_deg", "friction")
 _INDEX = re.compile(r"\{i([+-]\d+)?\}")
 
 
@@ -92,7 +94,7 @@ def load_formation(file: Path | str, *, units_dir: Path | None = None) -> Format
         seen[raw.name] = raw
         units.append(_read_unit(reader, raw, unit_types, units_dir, default_friction))
     ordered = _tree_order(reader, units, {u.name: seen[u.name] for u in units})
-    legs = _resolve_legs(reader, leg_specs, {u.name: u for u in ordered})
+    legs, broken = _resolve_legs(reader, leg_specs, {u.name: u for u in ordered})
     return Formation(
         name=name,
         description=description,
@@ -100,6 +102,7 @@ def load_formation(file: Path | str, *, units_dir: Path | None = None) -> Format
         units=tuple(ordered),
         light=light,
         legs=tuple(legs),
+        broken_legs=tuple(broken),
     )
 
 
@@ -296,14 +299,22 @@ def _read_unit(
     has_joint = parent is not None and unit_type.is_active
     axis: tuple[float, float, float] | None = None
     levels: tuple[float, ...] = ()
+    locked: float | None = None
     if has_joint:
-        for key in ("axis", "levels_deg"):
+        locked_source = f.get("locked_deg")
+        needed = ("axis",) if locked_source is not None else ("axis", "levels_deg")
+        for key in needed:
             if key not in f:
                 raise _error(reader, raw, "unit", f"active unit '{raw.name}' needs '{key}'")
         axis = _read_axis(reader, f["axis"], raw)
-        levels = _read_levels(reader, f["levels_deg"], raw, unit_type.joint)  # type: ignore[arg-type]
+        if "levels_deg" in f:
+            levels = _read_levels(reader, f["levels_deg"], raw, unit_type.joint)  # type: ignore[arg-type]
+        if locked_source is not None:  # a broken joint: fixed at this angle, no levels
+            degrees = _read_level(reader, locked_source.path, locked_source.value, raw,
+                                  unit_type.joint, "locked angle")  # type: ignore[arg-type]  # fmt: skip
+            locked, levels = math.radians(degrees), ()
     else:
-        for key in ("axis", "levels_deg"):
+        for key in ("axis", "levels_deg", "locked_deg"):
             if key in f:
                 why = "is the root" if parent is None else f"is passive ({type_name})"
                 raise _error(reader, raw, key, f"'{key}' given but unit '{raw.name}' {why}")
@@ -316,6 +327,7 @@ def _read_unit(
         levels_rad=levels,
         friction=friction,
         line=reader.document.line(raw.path),
+        locked_rad=locked,
     )
 
 
@@ -366,15 +378,21 @@ def _read_levels(
 
 
 def _read_level(
-    reader: Reader, path: KeyPath, value: Any, raw: _RawUnit, joint: JointSpec
+    reader: Reader,
+    path: KeyPath,
+    value: Any,
+    raw: _RawUnit,
+    joint: JointSpec,
+    what: str = "level",
 ) -> float:
-    """One level (deg), inside the joint's limits."""
+    """One angle (deg), a level or a locked angle, inside the joint's limits."""
     level = reader.number(path, value, ANGLE_DEG)
     lower, upper = math.degrees(joint.lower_rad), math.degrees(joint.upper_rad)
     if not lower - 1e-9 <= level <= upper + 1e-9:
         raise reader.error(
             path,
-            f"level {level:g} deg is outside the joint limits [{lower:g}, {upper:g}] deg{raw.note}",
+            f"{what} {level:g} deg is outside the joint limits [{lower:g}, {upper:g}] deg"
+            f"{raw.note}",
         )
     return level
 
@@ -444,23 +462,26 @@ def _tree_order(
 
 def _resolve_legs(
     reader: Reader, specs: list[tuple[_RawUnit, _Template]], units: dict[str, PlacedUnit]
-) -> list[Leg]:
-    legs = []
+) -> tuple[list[Leg], list[Leg]]:
+    """The leg instances: working ones, and broken ones (a joint locked)."""
+    legs, broken = [], []
     for instance, template in specs:
         if "side" not in instance.fields:
             raise _error(reader, instance, "name", "a leg instance needs 'side' (left or right)")
         side = reader.choice(
             instance.fields["side"].path, instance.fields["side"].value, ("left", "right")
         )
-        joints = []
+        joints, locked = [], False
         for role, source in zip(("swing", "lift"), template.leg, strict=True):  # type: ignore[arg-type]
             unit = units[f"{instance.name}_{source.value}"]
-            if not unit.is_actuated or len(unit.levels_rad) != 2:
+            locked = locked or unit.locked_rad is not None
+            if unit.locked_rad is None and (not unit.is_actuated or len(unit.levels_rad) != 2):
                 raise reader.error(
                     source.path,
                     f"a leg's {role} unit needs a joint with exactly 2 levels{instance.note}",
                 )
             joints.append(unit.joint_name)
         leg_units = tuple(f"{instance.name}_{unit['name']}" for _, unit in template.units)
-        legs.append(Leg(instance.name, side, joints[0], joints[1], leg_units))  # type: ignore[arg-type]
-    return legs
+        leg = Leg(instance.name, side, joints[0], joints[1], leg_units)  # type: ignore[arg-type]
+        (broken if locked else legs).append(leg)
+    return legs, broken

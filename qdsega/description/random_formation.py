@@ -5,7 +5,8 @@ posture: a *trunk* (a chain along ``back`` connectors, each unit a servo or a hu
 (chains of one to three servos on a trunk unit's ``left`` or ``right`` connector) and *leg
 pairs* (a two-servo leg template, left and right of a trunk hub). Every joint but a leg's has
 a level at 0 deg, which the rest posture picks, so trunk and limbs rest straight; legs rest
-forward and down. Axes are named or arbitrary vectors; levels are lists or ranges.
+forward and down. Axes are named or arbitrary vectors; levels are lists or ranges; one servo
+joint in ten is broken, locked at 0 deg.
 """
 
 from __future__ import annotations
@@ -77,7 +78,8 @@ def _trunk_types(rng: np.random.Generator) -> list[str]:
 
 
 def _joint(rng: np.random.Generator, kind: str) -> dict[str, Any]:
-    """A servo's ``axis`` and ``levels_deg`` (levels always include 0); nothing for a hub."""
+    """A servo's ``axis`` and ``levels_deg`` (levels always include 0), sometimes
+    ``locked_deg: 0`` too; nothing for a hub."""
     if kind != "servo":
         return {}
     if rng.random() < 0.8:
@@ -93,7 +95,8 @@ def _joint(rng: np.random.Generator, kind: str) -> dict[str, Any]:
         others = rng.choice(np.arange(-60, 61, 5), size=int(rng.integers(0, 6)), replace=False)
         levels = [0, *(int(x) for x in others if x != 0)]
         rng.shuffle(levels)
-    return {"axis": axis, "levels_deg": levels}
+    locked = {"locked_deg": 0} if rng.random() < 0.1 else {}
+    return {"axis": axis, "levels_deg": levels} | locked
 
 
 def _limb(rng: np.random.Generator, parent: str, side: str) -> list[dict[str, Any]]:

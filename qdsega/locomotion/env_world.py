@@ -21,6 +21,8 @@ class EnvWorld:
         self.env = env
         self.failure: str | None = None
         """Why the lower agent failed the last command, or None."""
+        self.commands = 0
+        """Postures commanded so far (upper-agent steps simulated)."""
 
     @property
     def n_joints(self) -> int:
@@ -36,6 +38,7 @@ class EnvWorld:
 
     def command(self, posture: np.ndarray) -> StepResult:
         observation, reward, terminated, _, info = self.env.step(posture)
+        self.commands += 1
         self.failure = info["failure"]
         return StepResult(reward=reward, exterior=int(observation[-1]), failed=terminated)
 

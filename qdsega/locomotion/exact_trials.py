@@ -50,6 +50,8 @@ class ExactTrials:
         rules = (formation, task, lower_agent, physics)
         self._env: LocomotionEnv | None = None
         self._pool: ProcessPoolExecutor | None = None
+        self.commands = 0
+        """Postures commanded in every trial so far (upper-agent steps simulated)."""
         if workers > 1:
             self._pool = worker_pool(workers, _init_worker, rules)
         else:
@@ -58,9 +60,12 @@ class ExactTrials:
     def replays(self, postures: Sequence[np.ndarray]) -> list[Replay]:
         """Each posture sequence (steps, J) of level indices played as one trial, in order."""
         if self._env is not None:
-            return [replay_postures(self._env, p) for p in postures]
-        assert self._pool is not None
-        return list(self._pool.map(_replay_in_worker, postures))
+            replays = [replay_postures(self._env, p) for p in postures]
+        else:
+            assert self._pool is not None
+            replays = list(self._pool.map(_replay_in_worker, postures))
+        self.commands += sum(r.completed + (r.failure is not None) for r in replays)
+        return replays
 
     def rollouts(self, policies: Sequence[Policy], *, steps: int) -> list[Rollout]:
         """Each policy run for one trial of at most ``steps`` commands, in order. A policy that
@@ -68,9 +73,12 @@ class ExactTrials:
         generator)."""
         if self._env is not None:
             world = EnvWorld(env=self._env)
-            return [rollout(policy, world, steps=steps) for policy in policies]
-        assert self._pool is not None
-        return list(self._pool.map(_rollout_in_worker, policies, [steps] * len(policies)))
+            trials = [rollout(policy, world, steps=steps) for policy in policies]
+        else:
+            assert self._pool is not None
+            trials = list(self._pool.map(_rollout_in_worker, policies, [steps] * len(policies)))
+        self.commands += sum(len(t.postures) for t in trials)
+        return trials
 
     def close(self) -> None:
         if self._pool is not None:

@@ -21,11 +21,17 @@
   shape (steps + 1, units, 2): the body's shape over the trial (the snake pose strip);
 * ``wave`` (formations with two or more joints): the period of the joint-angle sequence and the
   phase lag between neighbouring joints, measured from the commanded angles.
+
+``evaluate_on`` replays the greedy policy on another formation instead (a changed body, its
+joints matched by name, :mod:`qdsega.training.reconfiguration`) and writes
+``evaluation-on-NAME.json``: ``distance_m``, ``failure``, ``postures`` and ``joints`` (the
+names matched, dropped, locked and added).
 """
 
 from __future__ import annotations
 
 import json
+from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
@@ -33,13 +39,14 @@ import numpy as np
 
 from qdsega.agent.policy import GreedyPolicy, rollout
 from qdsega.atomic import replaced_atomically
-from qdsega.description import Formation
+from qdsega.description import Formation, load_formation, resolve_formation
 from qdsega.errors import FormationError
 from qdsega.locomotion import reference_gaits
 from qdsega.locomotion.env import LocomotionEnv, replay_postures
 from qdsega.locomotion.env_world import EnvWorld
 from qdsega.training.config import TrainingConfig, read_run_config
 from qdsega.training.formation_copy import load_run_formation
+from qdsega.training.reconfiguration import JointMapping
 from qdsega.training.reference_search import DEFAULT_BUDGET_TRIALS, reference_gait
 from qdsega.training.run_folder import (
     EVALUATION_FILE,
@@ -47,7 +54,7 @@ from qdsega.training.run_folder import (
     read_summary,
     require_finished,
 )
-from qdsega.training.worlds import exact_env
+from qdsega.training.worlds import check_world, exact_env
 
 
 def evaluate_run(
@@ -97,6 +104,39 @@ def evaluate_run(
     with replaced_atomically(run / EVALUATION_FILE) as partial:
         partial.write_text(json.dumps(result, indent=2) + "\n", encoding="utf-8")
     return result
+
+
+def evaluate_on(run: Path | str, other: Path | str) -> tuple[dict[str, Any], Path]:
+    """Replay the run's greedy policy on the formation ``other`` (a file or a shipped name)
+    under the run's rules; write ``RUN/evaluation-on-NAME.json``; return it and its path.
+
+    Raises:
+        FormationError: missing or corrupt run folder; a bad formation, or one the run's
+            lower agent cannot drive.
+    """
+    run = Path(run)
+    _, config, policy = load_run(run)
+    source = load_run_formation(run, config)
+    target = config.with_light(load_formation(resolve_formation(other)))
+    check_world(target, replace(config, sim="memo"))  # the lower agent must drive it
+    mapping = JointMapping.between(source, target)
+    env = exact_env(target, config)
+    try:
+        learned = replay_policy(env, mapping.policy(policy, target))
+    finally:
+        env.close()
+    result = {
+        "formation": target.name,
+        "policy_of": source.name,
+        "distance_m": learned["distance_m"],
+        "failure": learned["failure"],
+        "joints": mapping.report(),
+        "postures": learned["postures"],
+    }
+    file = run / f"evaluation-on-{target.name}.json"
+    with replaced_atomically(file) as partial:
+        partial.write_text(json.dumps(result, indent=2) + "\n", encoding="utf-8")
+    return result, file
 
 
 def replay_policy(env: LocomotionEnv, policy: GreedyPolicy) -> dict[str, Any]:

@@ -8,6 +8,11 @@ The run folder holds:
   ``config.yaml`` before anything slow, so ``--resume`` can start a run stopped at any moment;
 * ``train.lock``: locked while a ``qdsega train`` writes the folder
   (:mod:`qdsega.training.run_lock`);
+* ``warm_start.json`` and ``warm_start.npz`` (a warm-started run, ``--warm-start RUN``): where
+  the run started from (the source run, its formation, seed and distance, how joints matched)
+  and what it starts from (the joint mapping, the source's last population and Q-table,
+  :mod:`qdsega.training.reconfiguration`); written with ``config.yaml``, so the run needs the
+  source run no more;
 * ``checkpoint.npz``: where the run stands after its last finished generation
   (:mod:`qdsega.training.checkpoint`); ``qdsega train --resume RUN`` continues from it;
 * ``metrics.csv``: one row per finished generation (see :data:`METRIC_COLUMNS`);
@@ -44,19 +49,32 @@ from typing import Any, Protocol
 import numpy as np
 import yaml
 
-from qdsega.agent.learner import QDSEGA, Generation
+from qdsega.agent.learner import QDSEGA, Generation, LearnerState
 from qdsega.agent.policy import GreedyPolicy, Rollout
 from qdsega.atomic import replaced_atomically
 from qdsega.description import Formation, load_formation
 from qdsega.errors import FormationError
-from qdsega.training.checkpoint import Checkpoint, load_checkpoint, save_checkpoint
+from qdsega.training.checkpoint import (
+    CHECKPOINT_FILE,
+    Checkpoint,
+    load_checkpoint,
+    save_checkpoint,
+)
 from qdsega.training.config import TrainingConfig, read_run_config
 from qdsega.training.formation_copy import (
     FormationSnapshot,
     load_run_formation,
     read_formation_record,
 )
-from qdsega.training.run_folder import POLICY_FILE, SUMMARY_FILE
+from qdsega.training.reconfiguration import JointMapping, warm_record, warm_state
+from qdsega.training.run_folder import (
+    POLICY_FILE,
+    SUMMARY_FILE,
+    WARM_START_FILE,
+    WARM_START_STATE,
+    read_summary,
+    require_finished,
+)
 from qdsega.training.run_lock import LOCK_FILE, run_lock
 from qdsega.training.worlds import TrainingWorld, build_world, check_world, leg_states
 
@@ -71,14 +89,17 @@ METRIC_COLUMNS = (
     "greedy_exact_m",
     "penalties",
     "steps",
+    "sim_steps",
     "wall_s",
 )
 """metrics.csv: Q-table actions (columns), interior states and entries (states x actions),
 best and mean trial distance toward the light in the learner's world (m), the greedy policy's
 distance there (m: the table's prediction in memo mode) and with exact physics (m), trials that
-ended in a fall, learning steps (commands), wall seconds of the generation (the exact replay
-included)."""
+ended in a fall, learning steps (commands), upper-agent steps simulated in PyBullet by the run
+so far (memo transitions measured and exact trials' commands; every learning step in exact
+mode; 0 in the MSM), wall seconds of the generation (the exact replay included)."""
 
+_SIM_STEPS = METRIC_COLUMNS.index("sim_steps")
 _FLOAT_COLUMNS = {
     "best_distance_m",
     "mean_distance_m",
@@ -142,6 +163,8 @@ def train(
     *,
     overwrite: bool = False,
     progress: Progress | None = None,
+    warm_start: Path | None = None,
+    allow_unmatched: bool = False,
 ) -> dict[str, Any]:
     """Train with ``config`` and write the new run folder ``out``; return the summary.
 
@@ -150,16 +173,25 @@ def train(
 
     Args:
         overwrite: delete the run folder ``out`` first if it exists.
+        warm_start: a finished run folder to start from: its last population and Q-table,
+            mapped onto this formation by joint name
+            (:mod:`qdsega.training.reconfiguration`).
+        allow_unmatched: warm-start even from a run that shares no joint name with this
+            formation.
 
     Raises:
         FormationError: ``out`` exists (and ``overwrite`` is not set, or it is not a run
             folder), or another process is writing it; unreadable formation, or one the chosen
-            world cannot model.
+            world cannot model; a warm start from a missing or unfinished run, from one whose
+            exterior states differ, or (without ``allow_unmatched``) from an unrelated body.
         TrainingInterrupted: Ctrl-C; ``out`` holds the last finished generation.
     """
     out = Path(out)
     original = load_formation(formation_file)
     check_world(config.with_light(original), config)
+    warm = None
+    if warm_start is not None:
+        warm = _warm_source(Path(warm_start), original, config, allow_unmatched)
     snapshot = FormationSnapshot.of(original)
     if out.exists() and not out.is_dir():
         raise FormationError("not a folder; choose another --out", file=out)
@@ -182,7 +214,43 @@ def train(
         with replaced_atomically(out / "config.yaml") as partial:
             partial.write_text(yaml.safe_dump(config.to_dict(), sort_keys=False), encoding="utf-8")
         snapshot.write(out)
+        if warm is not None:
+            record, mapping, source = warm
+            mapping.save(out / WARM_START_STATE, source)
+            with replaced_atomically(out / WARM_START_FILE) as partial:
+                partial.write_text(json.dumps(record, indent=2) + "\n", encoding="utf-8")
         return _run(out, load_run_formation(out, config), config, None, progress)
+
+
+def _warm_source(
+    run: Path, formation: Formation, config: TrainingConfig, allow_unmatched: bool
+) -> tuple[dict[str, Any], JointMapping, LearnerState]:
+    """What a warm start from ``run`` needs: its record, the joint mapping onto
+    ``formation`` and the run's last learner state.
+
+    Raises:
+        FormationError: see :func:`train`.
+    """
+    require_finished(run, "config.yaml", CHECKPOINT_FILE)
+    source_config = read_run_config(run)
+    checkpoint = load_checkpoint(run)
+    if checkpoint is None or checkpoint.learner.previous is None:
+        raise FormationError(f"not a finished run folder (no {CHECKPOINT_FILE})", file=run)
+    if source_config.task.exterior_bin_edges_deg != config.task.exterior_bin_edges_deg:
+        raise FormationError(
+            "its exterior states (task.exterior_bin_edges_deg) differ from this run's; its "
+            "Q-table cannot carry over",
+            file=run,
+        )
+    source_formation = load_run_formation(run, source_config)
+    mapping = JointMapping.between(source_formation, formation)
+    if not mapping.matched and not allow_unmatched:
+        raise FormationError(
+            f"{source_formation.name} shares no joint name with {formation.name}; nothing "
+            "carries over (give --allow-unmatched to start from it anyway)",
+            file=run,
+        )
+    return warm_record(run, read_summary(run), mapping), mapping, checkpoint.learner
 
 
 def resume(run: Path | str, *, progress: Progress | None = None) -> dict[str, Any]:
@@ -237,6 +305,18 @@ def _run(
             rng=np.random.default_rng(config.seed),
         )
         if checkpoint is None:
+            if (out / WARM_START_STATE).is_file():
+                mapping, source = JointMapping.load(out / WARM_START_STATE)
+                learner.restore(
+                    warm_state(
+                        mapping,
+                        source,
+                        levels=learner.levels,
+                        start=world.provider.start_posture(),
+                        population=config.agent.genetic.population,
+                        rng=learner.rng,
+                    )
+                )
             checkpoint = _first_checkpoint(formation, config, learner)
             save_checkpoint(out, checkpoint)
         else:
@@ -247,6 +327,7 @@ def _run(
                 message = f"checkpoint.npz does not fit config.yaml ({exc})"
                 raise FormationError(message, file=out) from None
         first_elapsed, resumed_at = checkpoint.elapsed_s, checkpoint.learner.completed
+        simulated = int(checkpoint.metrics[-1, _SIM_STEPS]) if len(checkpoint.metrics) else 0
         if progress is not None:
             progress.start(completed=resumed_at, generations=config.agent.genetic.generations)
         try:
@@ -254,7 +335,10 @@ def _run(
                 exact = world.replay(generation, learner)
                 learner.verify(generation, exact)
                 elapsed = first_elapsed + time.perf_counter() - session_start
-                checkpoint = _advance(checkpoint, generation, exact, learner, world, elapsed)
+                sim_steps = simulated + world.simulated_steps()
+                checkpoint = _advance(
+                    checkpoint, generation, exact, learner, world, sim_steps, elapsed
+                )
                 world.save(out)
                 save_checkpoint(out, checkpoint)
                 _write_metrics(out, checkpoint.metrics)
@@ -290,10 +374,11 @@ def _advance(
     exact: Rollout,
     learner: QDSEGA,
     world: TrainingWorld,
+    sim_steps: int,
     elapsed_s: float,
 ) -> Checkpoint:
     """The checkpoint after ``generation`` and its exact replay (the learner has already
-    reproduced)."""
+    reproduced); ``sim_steps``: the run's simulated steps so far."""
     space = generation.space
     row = [
         generation.index,
@@ -306,6 +391,7 @@ def _advance(
         exact.distance_m,
         int(generation.fell.sum()),
         generation.steps,
+        sim_steps,
         generation.wall_s,
     ]
     return Checkpoint(
@@ -399,6 +485,7 @@ def _finish(
         "trials_per_generation": config.agent.learning.trials,
         "trial_steps": config.task.trial_steps,
         "env_steps": checkpoint.env_steps,
+        "sim_steps": int(last[_SIM_STEPS]),
         "distance_m": distance,
         "greedy_distance": greedy_distance,
         "prediction_error": _relative_error(greedy_distance, distance),
@@ -408,10 +495,17 @@ def _finish(
         "final_heading_deg": math.degrees(checkpoint.exact_poses[-1, -1, 2]),
         "light_xy": list(light),
         "wall_s": checkpoint.elapsed_s,
+        "warm_start": _read_warm_record(out),
     }
     with replaced_atomically(out / SUMMARY_FILE) as partial:
         partial.write_text(json.dumps(summary, indent=2) + "\n", encoding="utf-8")
     return summary
+
+
+def _read_warm_record(run: Path) -> dict[str, Any] | None:
+    """``warm_start.json`` of a warm-started run, else None."""
+    file = run / WARM_START_FILE
+    return json.loads(file.read_text(encoding="utf-8")) if file.is_file() else None
 
 
 def _relative_error(predicted: float, exact: float) -> float | None:

@@ -14,6 +14,10 @@ EVALUATION_FILE = "evaluation.json"
 """Written by ``qdsega evaluate``."""
 POLICY_FILE = "policy.npz"
 """The final greedy policy (:class:`qdsega.agent.policy.GreedyPolicy`), written by train."""
+WARM_START_FILE = "warm_start.json"
+"""A warm-started run: where it started from (written by train)."""
+WARM_START_STATE = "warm_start.npz"
+"""A warm-started run: the joint mapping and the learner state it starts from."""
 
 
 def require_finished(run: Path, *names: str) -> None:

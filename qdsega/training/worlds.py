@@ -104,6 +104,14 @@ class TrainingWorld:
                 self.grounded.observe(trial, generation.space.postures[0])
         return outcomes[-1]
 
+    def simulated_steps(self) -> int:
+        """Upper-agent steps simulated in PyBullet by this world so far: memo transitions
+        measured (each one move from a settled start), exact trials' commands, and every
+        command to an exact learner's world; 0 in the MSM."""
+        memo = self.grounded.base if self.grounded is not None else self.provider
+        counters = ((memo, "measured"), (self.exact, "commands"), (self.provider, "commands"))
+        return sum(getattr(world, name, 0) for world, name in counters)
+
     def state(self) -> dict[str, np.ndarray]:
         """What the run's history put into the world (grounded observations), as arrays."""
         return {} if self.grounded is None else self.grounded.state()

@@ -23,7 +23,8 @@ TOOL = Path(__file__).resolve().parents[2] / "tools" / "random_formations.py"
 
 
 def _expected_counts(data: dict) -> tuple[int, int]:
-    """(units, joints) of formation data, counted from its entries: repeats and templates."""
+    """(units, joints) of formation data, counted from its entries: repeats and templates;
+    a locked joint is no joint."""
     units = joints = 0
     for entry in data["units"]:
         first, last = entry.get("repeat", [1, 1])
@@ -34,7 +35,8 @@ def _expected_counts(data: dict) -> tuple[int, int]:
             joints += copies * sum(1 for u in template_units if u["unit"] == "servo")
         else:
             units += copies
-            joints += copies * (entry["unit"] == "servo" and "parent" in entry)
+            working = "parent" in entry and "locked_deg" not in entry
+            joints += copies * (entry["unit"] == "servo" and working)
     return units, joints
 
 
@@ -48,6 +50,7 @@ def test_the_generator_is_deterministic_and_varied():
     assert {entry["unit"] for entry in entries if "unit" in entry} == {"servo", "hub"}
     assert any(isinstance(entry.get("axis"), list) for entry in entries), "vector axes"
     assert any(isinstance(entry.get("levels_deg"), dict) for entry in entries), "level ranges"
+    assert any("locked_deg" in entry for entry in entries), "broken joints"
 
 
 @settings(max_examples=25, deadline=None, suppress_health_check=[HealthCheck.too_slow])

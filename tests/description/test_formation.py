@@ -6,8 +6,28 @@ from helpers import SHIPPED_FORMATIONS
 from qdsega.description import load_formation
 from qdsega.errors import FormationError
 
-EXPECTED_JOINTS = {"snake5": 4, "snake10": 9, "legged12": 24, "quadruped": 8, "hexapod": 12}
-EXPECTED_LEGS = {"snake5": 0, "snake10": 0, "legged12": 12, "quadruped": 4, "hexapod": 6}
+EXPECTED_JOINTS = {
+    "snake5": 4,
+    "snake6": 5,
+    "snake10": 9,
+    "legged12": 24,
+    "legged12_locked_leg": 22,
+    "quadruped": 8,
+    "quadruped_tripod": 6,
+    "hexapod": 12,
+    "hexapod_lost_leg": 10,
+}
+EXPECTED_LEGS = {
+    "snake5": 0,
+    "snake6": 0,
+    "snake10": 0,
+    "legged12": 12,
+    "legged12_locked_leg": 11,
+    "quadruped": 4,
+    "quadruped_tripod": 3,
+    "hexapod": 6,
+    "hexapod_lost_leg": 5,
+}
 
 
 def test_every_expected_formation_is_shipped():

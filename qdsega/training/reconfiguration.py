@@ -1,0 +1,233 @@
+"""Reconfiguration: what a run learnt on one formation, carried onto another.
+
+A reconfigurable robot gains, loses or breaks units; its units keep their names across the
+versions of its formation, so the joints of two formations are matched by name
+(:class:`JointMapping`):
+
+* **matched**: actuated in both; each old level maps to the new level nearest in angle (the
+  first of equally near ones);
+* **dropped**: the old joint is not in the new formation;
+* **locked**: the old joint is still there, but broken (``locked_deg``), so no action moves it;
+* **added**: an actuated joint of the new formation that the old one lacks. A replayed policy
+  holds it at its rest level; a warm-started learner draws its characters at random.
+
+Two uses: a trained policy replayed on another body (:meth:`JointMapping.policy`, ``qdsega
+evaluate RUN --formation OTHER``) and a learner that starts from a finished run's population
+and Q-table instead of from scratch (:func:`warm_state`, ``qdsega train OTHER --warm-start
+RUN``).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from qdsega.agent.learner import LearnerState
+from qdsega.agent.policy import GreedyPolicy
+from qdsega.agent.space import ExplorationSpace
+from qdsega.atomic import replaced_atomically
+from qdsega.description import Formation
+
+_CLASSES = ("matched", "dropped", "locked", "added")
+
+
+@dataclass(frozen=True)
+class JointMapping:
+    """How the actuated joints of one formation map onto another's.
+
+    Attributes:
+        column: for each new joint, the index of the old joint it matches, or -1 (added),
+            shape (J_new,).
+        levels: for each new joint, the new level index of each old level index (-1 beyond
+            the old joint's levels and for added joints), shape (J_new, L_old).
+        matched, dropped, locked, added: joint names in each class (module docstring).
+    """
+
+    column: np.ndarray
+    levels: np.ndarray
+    matched: tuple[str, ...]
+    dropped: tuple[str, ...]
+    locked: tuple[str, ...]
+    added: tuple[str, ...]
+
+    @classmethod
+    def between(cls, old: Formation, new: Formation) -> JointMapping:
+        """Match ``old``'s actuated joints onto ``new``'s by name."""
+        old_joints = {j.name: k for k, j in enumerate(old.joints)}
+        locked_names = {u.joint_name for u in new.units if u.locked_rad is not None}
+        width = max((len(j.levels_rad) for j in old.joints), default=0)
+        column = np.full(len(new.joints), -1, dtype=np.int64)
+        levels = np.full((len(new.joints), width), -1, dtype=np.int64)
+        for k, joint in enumerate(new.joints):
+            source = old_joints.get(joint.name)
+            if source is None:
+                continue
+            column[k] = source
+            angles = np.asarray(joint.levels_rad)
+            for level, angle in enumerate(old.joints[source].levels_rad):
+                levels[k, level] = int(np.argmin(np.abs(angles - angle)))
+        new_names = {j.name for j in new.joints}
+        return cls(
+            column=column,
+            levels=levels,
+            matched=tuple(j.name for j in new.joints if j.name in old_joints),
+            dropped=tuple(n for n in old_joints if n not in new_names and n not in locked_names),
+            locked=tuple(n for n in old_joints if n in locked_names),
+            added=tuple(j.name for j in new.joints if j.name not in old_joints),
+        )
+
+    def postures(self, old: np.ndarray, fill: np.ndarray) -> np.ndarray:
+        """Old postures (n, J_old) of level indices as new ones (n, J_new): matched joints at
+        the nearest level, added joints from ``fill`` (n, J_new) or (J_new,)."""
+        old = np.asarray(old, dtype=np.int64).reshape(len(old), -1)
+        mapped = np.broadcast_to(np.asarray(fill, dtype=np.int64), (len(old), len(self.column)))
+        mapped = mapped.copy()
+        for k, source in enumerate(self.column):
+            if source >= 0:
+                mapped[:, k] = self.levels[k, old[:, source]]
+        return mapped
+
+    def policy(self, policy: GreedyPolicy, new: Formation) -> GreedyPolicy:
+        """``policy`` acting on ``new``: the same Q-table and states, every action posture
+        mapped (added joints at their rest level), a trial starting in ``new``'s rest
+        posture."""
+        rest = np.array(new.rest_levels(), dtype=np.int64)
+        postures = self.postures(policy.postures, rest)
+        postures[0] = rest
+        return GreedyPolicy(
+            q=policy.q,
+            actions=self.postures(policy.actions, rest),
+            postures=postures,
+            next_interior=policy.next_interior,
+        )
+
+    def report(self) -> dict[str, list[str]]:
+        """The joint names of each class, for JSON."""
+        return {k: list(getattr(self, k)) for k in _CLASSES}
+
+    def save(self, file: Path, source: LearnerState) -> None:
+        """Write the mapping and the learner state it maps (a warm start's inputs) to
+        ``file`` (npz), atomically."""
+        assert source.previous is not None, "a finished run has learnt a generation"
+        space, q = source.previous
+        names = {k: np.array(getattr(self, k), dtype=str) for k in _CLASSES}
+        with replaced_atomically(file) as partial:
+            np.savez_compressed(
+                partial,
+                column=self.column,
+                levels=self.levels,
+                population=source.population,
+                actions=space.actions,
+                action_of=space.action_of,
+                postures=space.postures,
+                next_interior=space.next_interior,
+                q=q,
+                **names,
+            )
+
+    @classmethod
+    def load(cls, file: Path) -> tuple[JointMapping, LearnerState]:
+        """Read what :meth:`save` wrote: the mapping and the source learner state (its random
+        generator state is not kept: a warm start draws from its own)."""
+        with np.load(file) as data:
+            mapping = cls(
+                column=data["column"],
+                levels=data["levels"],
+                **{k: tuple(str(n) for n in data[k]) for k in _CLASSES},
+            )
+            space = ExplorationSpace(
+                actions=data["actions"],
+                action_of=data["action_of"],
+                postures=data["postures"],
+                next_interior=data["next_interior"],
+            )
+            state = LearnerState(
+                completed=0,
+                population=data["population"],
+                rng_state={},
+                previous=(space, data["q"]),
+                elite=(np.zeros((0, data["population"].shape[1]), dtype=np.int64), None),
+            )
+        return mapping, state
+
+
+def describe(joints: dict[str, list[str]]) -> str:
+    """One line from :meth:`JointMapping.report`: how many joints of each class, and which
+    were dropped, locked or added."""
+    parts = [f"{len(joints['matched'])} joints matched"]
+    for name in _CLASSES[1:]:
+        if joints[name]:
+            parts.append(f"{len(joints[name])} {name} ({', '.join(joints[name])})")
+    return ", ".join(parts)
+
+
+def warm_state(
+    mapping: JointMapping,
+    source: LearnerState,
+    *,
+    levels: np.ndarray,
+    start: np.ndarray,
+    population: int,
+    rng: np.random.Generator,
+) -> LearnerState:
+    """A learner's state before its first generation, carried over from ``source`` (a finished
+    run's last generation) through ``mapping``.
+
+    Every old action (distinct posture) becomes one new posture: matched joints at the
+    nearest level, each added joint at a level drawn from ``rng`` once per old action (so
+    copies of one action stay copies, and the old Q-table carries over to them through
+    ``carry_q``). The population is the old one so mapped (drawn from it with replacement
+    when ``population`` differs); the old Q-table is the "previous generation" whose values
+    the first generation starts from; there is no elite yet.
+
+    Args:
+        levels: level count of each new joint, shape (J_new,).
+        start: the new formation's start posture, shape (J_new,).
+        population: individuals of the new run.
+        rng: the new run's generator, which the learner goes on drawing from.
+    """
+    assert source.previous is not None, "a finished run has learnt a generation"
+    space, q = source.previous
+    added = mapping.column < 0
+    draws = np.zeros((len(space.actions), len(levels)), dtype=np.int64)
+    draws[:, added] = (rng.random((len(space.actions), int(added.sum()))) * levels[added]).astype(
+        np.int64
+    )
+    actions = mapping.postures(space.actions, draws)
+    of_action = {a.tobytes(): k for k, a in enumerate(space.actions)}
+    genes = np.array([of_action[g.astype(np.int64).tobytes()] for g in source.population])
+    mapped = actions[genes]
+    if len(mapped) != population:
+        mapped = mapped[rng.integers(len(mapped), size=population)]
+    interior = np.empty((space.n_interior, len(levels)), dtype=np.int64)
+    interior[space.next_interior] = actions  # interior k > 0 is the posture of its action
+    interior[0] = start
+    previous = ExplorationSpace(
+        actions=actions,
+        action_of=space.action_of,
+        postures=interior,
+        next_interior=space.next_interior,
+    )
+    return LearnerState(
+        completed=0,
+        population=mapped,
+        rng_state=rng.bit_generator.state,
+        previous=(previous, q),
+        elite=(np.zeros((0, len(levels)), dtype=np.int64), None),
+    )
+
+
+def warm_record(run: Path, summary: dict[str, Any], mapping: JointMapping) -> dict[str, Any]:
+    """What ``warm_start.json`` says: where the run started from and how joints matched."""
+    return {
+        "run": str(run.resolve()),
+        "formation": summary["formation"],
+        "formation_sha256": summary.get("formation_sha256"),
+        "seed": summary["seed"],
+        "generations": summary["generations"],
+        "distance_m": summary["distance_m"],
+        "joints": mapping.report(),
+    }
