@@ -2,9 +2,17 @@
 
 from __future__ import annotations
 
+import csv
+import json
+import os
+import signal
 import subprocess
 import sys
+import time
+from collections.abc import Callable
 from pathlib import Path
+
+import numpy as np
 
 from qdsega import ASSEMBLIES_DIR, UNITS_DIR
 
@@ -22,3 +30,57 @@ def run_cli(*args: str | Path, cwd: Path | None = None) -> subprocess.CompletedP
         timeout=300,
         check=False,
     )
+
+
+def start_cli(*args: str | Path) -> subprocess.Popen[str]:
+    """``qdsega ARGS`` in its own process group, with Ctrl-C's default action (as a
+    terminal's foreground job), even where the tests themselves run with SIGINT ignored (a
+    background job of a non-interactive shell, e.g. ``make test &``)."""
+    return subprocess.Popen(
+        [sys.executable, "-m", "qdsega.cli", *map(str, args)],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        start_new_session=True,
+        preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL),
+    )
+
+
+def finished_generations(run: Path) -> int:
+    metrics = run / "metrics.csv"
+    return len(metrics.read_text().splitlines()) - 1 if metrics.is_file() else 0
+
+
+def stop_after(process: subprocess.Popen[str], run: Path, generations: int, sig: int) -> None:
+    """Send ``sig`` to the process group once ``generations`` are finished."""
+    stop_when(process, lambda: finished_generations(run) >= generations, sig)
+
+
+def stop_when(process: subprocess.Popen[str], ready: Callable[[], bool], sig: int) -> None:
+    """Send ``sig`` to the process group as soon as ``ready()``."""
+    deadline = time.monotonic() + 240
+    while not ready():
+        assert process.poll() is None, process.communicate()
+        assert time.monotonic() < deadline, "training did not progress"
+        time.sleep(0.005)
+    os.killpg(process.pid, sig)
+
+
+def metrics_without_wall_time(run: Path) -> list[dict[str, str]]:
+    rows = list(csv.DictReader((run / "metrics.csv").open()))
+    return [{k: v for k, v in row.items() if k != "wall_s"} for row in rows]
+
+
+def assert_same_result(a: Path, b: Path, why: str = "") -> None:
+    assert metrics_without_wall_time(a) == metrics_without_wall_time(b), why
+    for name in ("policy.npz", "trajectories.npz"):
+        with np.load(a / name) as x, np.load(b / name) as y:
+            assert sorted(x) == sorted(y)
+            for key in x:
+                assert np.array_equal(x[key], y[key]), f"{name}:{key} {why}"
+    sa, sb = (json.loads((r / "summary.json").read_text()) for r in (a, b))
+    assert {**sa, "wall_s": None} == {**sb, "wall_s": None}, why
+    if (a / "transitions.npz").is_file():
+        with np.load(a / "transitions.npz") as x, np.load(b / "transitions.npz") as y:
+            assert np.array_equal(x["pairs"], y["pairs"]), why
+            assert np.array_equal(x["values"], y["values"]), why

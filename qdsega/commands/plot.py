@@ -17,12 +17,19 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "run_dir", type=Path, metavar="RUN", help="a folder written by qdsega train"
     )
+    parser.add_argument(
+        "--fresh",
+        type=Path,
+        metavar="RUN",
+        help="for a warm-started RUN: the fresh run whose learning curve to draw beside it "
+        "(default: a finished folder beside RUN that trained the same formation from scratch)",
+    )
 
 
 def run(args: argparse.Namespace) -> int:
     from qdsega.training.plots import plot_run  # matplotlib loads only when plotting
 
-    paths, notes = plot_run(args.run_dir)
+    paths, notes = plot_run(args.run_dir, fresh=args.fresh)
     for path in paths:
         print(path)
     for note in notes:

@@ -33,14 +33,19 @@ def selected_generations(count: int, shown: int = 6) -> list[int]:
     return sorted({round(g) for g in np.linspace(1, count, min(shown, count))})
 
 
-def plot_run(run: Path | str) -> tuple[list[Path], list[str]]:
+def plot_run(run: Path | str, *, fresh: Path | None = None) -> tuple[list[Path], list[str]]:
     """Draw the run's figures into its folder.
+
+    A warm-started run's learning curve also shows a fresh run's of the same formation:
+    ``fresh``, else a finished sibling folder of ``run`` that trained the same formation (same
+    content hash) from scratch, the same seed first.
 
     Returns:
         The figures written, and a note for each figure left out (and why).
 
     Raises:
-        FormationError: the folder is not a finished run folder, or its files do not parse.
+        FormationError: the folder (or ``fresh``) is not a finished run folder, or its files
+            do not parse.
     """
     run = Path(run)
     require_finished(run, "trajectories.npz", "metrics.csv")
@@ -49,16 +54,23 @@ def plot_run(run: Path | str) -> tuple[list[Path], list[str]]:
         with np.load(run / "trajectories.npz") as data:
             poses, legs, names = data["exact_poses"], data["gait_legs"], data["leg_names"]
             light, angles, joints = data["light"], data["gait_angles_deg"], data["joint_names"]
-        with (run / "metrics.csv").open(encoding="utf-8") as stream:
-            metrics = {k: np.array(v, dtype=float) for k, v in _columns(stream).items()}
     except (OSError, ValueError, KeyError) as exc:
         raise FormationError(f"corrupt run folder ({exc})", file=run) from None
+    metrics = read_metrics(run)
+    notes = []
+    baseline = None
+    if summary.get("warm_start") is not None:
+        fresh = fresh or fresh_sibling(run, summary)
+        if fresh is None:
+            notes.append(f"{LEARNING_CURVE}: no fresh run of {summary['formation']} beside it")
+        else:
+            require_finished(fresh, "metrics.csv")
+            baseline = (fresh, read_metrics(fresh))
     paths = [
-        _learning_curve(run / LEARNING_CURVE, metrics, summary, evaluation),
+        _learning_curve(run / LEARNING_CURVE, metrics, summary, evaluation, baseline),
         _qtable_size(run / QTABLE_SIZE, metrics),
         _trajectories(run / TRAJECTORIES, poses, light),
     ]
-    notes = []
     if legs.shape[1] > 0:
         paths.append(_gait(run / GAIT, legs, names))
     elif evaluation is not None and "unit_xy_m" in evaluation:
@@ -69,11 +81,40 @@ def plot_run(run: Path | str) -> tuple[list[Path], list[str]]:
     return paths, notes
 
 
-def _columns(stream: Any) -> dict[str, list[str]]:
-    rows = list(csv.DictReader(stream))
-    if not rows:
-        raise ValueError("metrics.csv has no generations")
-    return {key: [row[key] for row in rows] for key in rows[0]}
+def read_metrics(run: Path) -> dict[str, np.ndarray]:
+    """A run's ``metrics.csv``, one array per column (one entry per generation).
+
+    Raises:
+        FormationError: the file is missing, empty or does not parse.
+    """
+    try:
+        with (run / "metrics.csv").open(encoding="utf-8") as stream:
+            rows = list(csv.DictReader(stream))
+        if not rows:
+            raise ValueError("metrics.csv has no generations")
+        return {key: np.array([row[key] for row in rows], dtype=float) for key in rows[0]}
+    except (OSError, ValueError, KeyError) as exc:
+        raise FormationError(f"corrupt run folder ({exc})", file=run) from None
+
+
+def fresh_sibling(run: Path, summary: dict[str, Any]) -> Path | None:
+    """A finished folder beside ``run`` that trained the same formation (content hash) with
+    the same world from scratch; the same seed first, then by name; None if there is none."""
+    found = []
+    for folder in sorted(run.resolve().parent.iterdir()):
+        if folder == run.resolve() or not (folder / "summary.json").is_file():
+            continue
+        try:
+            other = read_summary(folder)
+        except FormationError:
+            continue
+        if (
+            other.get("warm_start") is None
+            and other.get("formation_sha256") == summary.get("formation_sha256")
+            and other.get("sim") == summary.get("sim")
+        ):
+            found.append((other.get("seed") != summary.get("seed"), folder))
+    return min(found)[1] if found else None
 
 
 def _learning_curve(
@@ -81,15 +122,39 @@ def _learning_curve(
     metrics: dict[str, np.ndarray],
     summary: dict[str, Any],
     evaluation: dict[str, Any] | None,
+    fresh: tuple[Path, dict[str, np.ndarray]] | None = None,
 ) -> Path:
     """Each generation's greedy policy with exact physics (and, where the learner's world is a
-    measured table, the table's prediction), against the optimum (MSM) or the reference."""
+    measured table, the table's prediction), against the optimum (MSM) or the reference; for a
+    warm-started run, against a fresh run's exact curve and 0.9 of its final distance."""
     generation = metrics["generation"]
     fig, ax = plt.subplots(figsize=(7, 3.6))
     exact = "MSM" if summary["sim"] == "msm" else "PyBullet, every step simulated"
+    warm = summary.get("warm_start")
+    started = "" if warm is None else f", warm-started from {warm['formation']}"
     ax.plot(
-        generation, metrics["greedy_exact_m"], "-o", markersize=3, label=f"greedy policy ({exact})"
+        generation,
+        metrics["greedy_exact_m"],
+        "-o",
+        markersize=3,
+        label=f"greedy policy ({exact}){started}",
     )
+    if fresh is not None:
+        folder, other = fresh
+        ax.plot(
+            other["generation"],
+            other["greedy_exact_m"],
+            "-s",
+            markersize=3,
+            color="tab:green",
+            label=f"fresh run from scratch ({folder.name})",
+        )
+        ax.axhline(
+            0.9 * other["greedy_exact_m"][-1],
+            color="tab:green",
+            linestyle=":",
+            label="0.9 of the fresh run's final distance",
+        )
     if summary["sim"] == "memo":
         ax.plot(
             generation,

@@ -68,7 +68,8 @@ class JointMapping:
             column[k] = source
             angles = np.asarray(joint.levels_rad)
             for level, angle in enumerate(old.joints[source].levels_rad):
-                levels[k, level] = int(np.argmin(np.abs(angles - angle)))
+                gaps = np.abs(angles - angle)
+                levels[k, level] = int(np.flatnonzero(gaps <= gaps.min() + 1e-9)[0])
         new_names = {j.name for j in new.joints}
         return cls(
             column=column,

@@ -18,6 +18,7 @@ from qdsega.atomic import replaced_atomically
 from qdsega.errors import FormationError
 from qdsega.training.formation_copy import FORMATION_DIR, read_formation_record
 from qdsega.training.plots import FIGURES
+from qdsega.training.reconfiguration import describe
 from qdsega.training.run_folder import read_evaluation, read_summary, require_finished
 
 REPORT_FILE = "report.html"
@@ -53,9 +54,11 @@ def write_report(run: Path | str, out: Path | None = None) -> Path:
     parts = [
         f"<h1>{html.escape(title)}</h1>",
         "<h2>Summary</h2>",
-        _table(summary),
+        _table({k: v for k, v in summary.items() if k != "warm_start"}),
+        *_warm_start(summary.get("warm_start")),
         "<h2>Evaluation with exact physics</h2>",
         _evaluation(evaluation, run),
+        *_transfers(run),
         "<h2>Video</h2>",
         _videos(run),
         "<h2>Figures</h2>",
@@ -115,6 +118,37 @@ def _evaluation(evaluation: dict[str, Any] | None, run: Path) -> str:
         shown["period (steps)"] = wave["period_steps"]
         shown["phase lag between neighbouring joints (deg)"] = wave["phase_lag_deg"]
     return _table({k: v for k, v in shown.items() if v is not None})
+
+
+def _warm_start(record: dict[str, Any] | None) -> list[str]:
+    """The section on where a warm-started run started from; none for a fresh run."""
+    if record is None:
+        return []
+    shown = {
+        "started from the run": record["run"],
+        "its formation": record["formation"],
+        "its seed, generations": f"{record['seed']}, {record['generations']}",
+        "its policy on its own body, exact physics (m)": record["distance_m"],
+        "joints": describe(record["joints"]),
+    }
+    return ["<h2>Warm start</h2>", _table(shown)]
+
+
+def _transfers(run: Path) -> list[str]:
+    """The section on this run's policy replayed on other bodies (``evaluate --formation``)."""
+    rows = {}
+    for file in sorted(run.glob("evaluation-on-*.json")):
+        try:
+            result = json.loads(file.read_text(encoding="utf-8"))
+            failure = "" if result["failure"] is None else f" (failed: {result['failure']})"
+            rows[result["formation"]] = (
+                f"{result['distance_m']:.4f} m{failure}; {describe(result['joints'])}"
+            )
+        except (OSError, ValueError, KeyError) as exc:
+            raise FormationError(f"corrupt run folder ({file.name}: {exc})", file=run) from None
+    if not rows:
+        return []
+    return ["<h2>This policy on other bodies (exact physics)</h2>", _table(rows)]
 
 
 def _videos(run: Path) -> str:

@@ -2,21 +2,24 @@
 
 from __future__ import annotations
 
-import csv
 import json
 import math
 import os
 import random
 import signal
-import subprocess
-import sys
 import time
 from collections.abc import Callable
 from pathlib import Path
 
-import numpy as np
 import pytest
-from helpers import run_cli
+from helpers import (
+    assert_same_result,
+    finished_generations,
+    run_cli,
+    start_cli,
+    stop_after,
+    stop_when,
+)
 
 from qdsega import ASSEMBLIES_DIR
 
@@ -27,60 +30,6 @@ agent:
   genetic: {{population: 8, generations: 4}}
 task: {{trial_steps: 6}}
 """
-
-
-def _start(*args: str | Path) -> subprocess.Popen[str]:
-    """``qdsega ARGS`` in its own process group, with Ctrl-C's default action (as a
-    terminal's foreground job), even where the tests themselves run with SIGINT ignored (a
-    background job of a non-interactive shell, e.g. ``make test &``)."""
-    return subprocess.Popen(
-        [sys.executable, "-m", "qdsega.cli", *map(str, args)],
-        stdout=subprocess.PIPE,
-        stderr=subprocess.PIPE,
-        text=True,
-        start_new_session=True,
-        preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL),
-    )
-
-
-def _finished_generations(run: Path) -> int:
-    metrics = run / "metrics.csv"
-    return len(metrics.read_text().splitlines()) - 1 if metrics.is_file() else 0
-
-
-def _stop_after(process: subprocess.Popen[str], run: Path, generations: int, sig: int) -> None:
-    """Send ``sig`` to the process group once ``generations`` are finished."""
-    _stop_when(process, lambda: _finished_generations(run) >= generations, sig)
-
-
-def _stop_when(process: subprocess.Popen[str], ready: Callable[[], bool], sig: int) -> None:
-    """Send ``sig`` to the process group as soon as ``ready()``."""
-    deadline = time.monotonic() + 240
-    while not ready():
-        assert process.poll() is None, process.communicate()
-        assert time.monotonic() < deadline, "training did not progress"
-        time.sleep(0.005)
-    os.killpg(process.pid, sig)
-
-
-def _metrics_without_wall_time(run: Path) -> list[dict[str, str]]:
-    rows = list(csv.DictReader((run / "metrics.csv").open()))
-    return [{k: v for k, v in row.items() if k != "wall_s"} for row in rows]
-
-
-def _assert_same_result(a: Path, b: Path, why: str = "") -> None:
-    assert _metrics_without_wall_time(a) == _metrics_without_wall_time(b), why
-    for name in ("policy.npz", "trajectories.npz"):
-        with np.load(a / name) as x, np.load(b / name) as y:
-            assert sorted(x) == sorted(y)
-            for key in x:
-                assert np.array_equal(x[key], y[key]), f"{name}:{key} {why}"
-    sa, sb = (json.loads((r / "summary.json").read_text()) for r in (a, b))
-    assert {**sa, "wall_s": None} == {**sb, "wall_s": None}, why
-    if (a / "transitions.npz").is_file():
-        with np.load(a / "transitions.npz") as x, np.load(b / "transitions.npz") as y:
-            assert np.array_equal(x["pairs"], y["pairs"]), why
-            assert np.array_equal(x["values"], y["values"]), why
 
 
 def _train_args(kind: str, tmp_path: Path, out: Path, workers: int = 1) -> list[str | Path]:
@@ -118,7 +67,7 @@ _MOMENTS = {
     # the formation's copy is written, the first checkpoint is not (yet)
     "before the first checkpoint": lambda run: (run / "formation.json").is_file(),
     "during the first generation": lambda run: (run / "checkpoint.npz").is_file(),
-    "after two generations": lambda run: _finished_generations(run) >= 2,
+    "after two generations": lambda run: finished_generations(run) >= 2,
 }
 
 
@@ -128,9 +77,9 @@ def test_sigkill_then_resume_equals_an_uninterrupted_run(kind, moment, uninterru
     whole, wall_s = uninterrupted(kind)
     killed = tmp_path / "killed"
     args = _train_args(kind, tmp_path, killed)
-    process = _start(*args)
+    process = start_cli(*args)
     if moment in _MOMENTS:
-        _stop_when(process, lambda: _MOMENTS[moment](killed), signal.SIGKILL)
+        stop_when(process, lambda: _MOMENTS[moment](killed), signal.SIGKILL)
     else:
         time.sleep(random.uniform(0.0, wall_s))
         os.killpg(process.pid, signal.SIGKILL)
@@ -153,14 +102,14 @@ def test_sigkill_then_resume_equals_an_uninterrupted_run(kind, moment, uninterru
         assert refused.returncode == 2 and expected in refused.stderr, why
         started = run_cli(*args, "--overwrite")
         assert started.returncode == 0, f"{started.stderr} ({why})"
-    _assert_same_result(whole, killed, why)
+    assert_same_result(whole, killed, why)
 
 
 def test_a_second_train_is_refused_while_the_first_writes_and_a_dead_ones_lock_is_not(tmp_path):
     run = tmp_path / "run"
     args = _train_args("msm", tmp_path, run)
-    first = _start(*args)
-    _stop_when(first, lambda: (run / "formation.json").is_file(), signal.SIGSTOP)
+    first = start_cli(*args)
+    stop_when(first, lambda: (run / "formation.json").is_file(), signal.SIGSTOP)
     try:
         for second in (["train", "--resume", run], [*args, "--overwrite"]):
             refused = run_cli(*second)
@@ -179,8 +128,8 @@ def test_a_second_train_is_refused_while_the_first_writes_and_a_dead_ones_lock_i
 
 def test_ctrl_c_saves_and_resume_finishes(tmp_path):
     run = tmp_path / "run"
-    process = _start(*_train_args("memo", tmp_path, run, workers=2))
-    _stop_after(process, run, 1, signal.SIGINT)
+    process = start_cli(*_train_args("memo", tmp_path, run, workers=2))
+    stop_after(process, run, 1, signal.SIGINT)
     out, err = process.communicate(timeout=60)
     assert process.returncode == 130, err
     assert "Traceback" not in err and "Traceback" not in out
@@ -189,7 +138,7 @@ def test_ctrl_c_saves_and_resume_finishes(tmp_path):
 
     resumed = run_cli("train", "--resume", run)
     assert resumed.returncode == 0, resumed.stderr
-    assert _finished_generations(run) == 4 and (run / "summary.json").is_file()
+    assert finished_generations(run) == 4 and (run / "summary.json").is_file()
     again = run_cli("train", "--resume", run)
     assert again.returncode == 2 and "nothing to resume" in again.stderr
 
