@@ -33,6 +33,18 @@ def qdsega(*args: str | Path) -> None:
     subprocess.run(command, check=True)
 
 
+def train(name: str, seed: int, run: Path, workers: int, *extra: str | Path) -> None:
+    """Make the finished run folder ``run``: kept if finished, resumed if not, else trained in
+    memo mode with the README's preset for ``name``."""
+    if (run / "summary.json").is_file():
+        return
+    if (run / "config.yaml").is_file():
+        qdsega("train", "--resume", run)
+        return
+    qdsega("train", name, "--sim", "memo", "--preset", preset_of(name), "--seed", str(seed),
+           "--workers", str(workers), "--out", run, *extra)  # fmt: skip
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument(
@@ -46,13 +58,7 @@ def main() -> None:
     for name in args.formations:
         for seed in args.seeds:
             run = args.out / f"{Path(name).stem}-seed{seed}"
-            if not (run / "summary.json").is_file():
-                if (run / "config.yaml").is_file():
-                    qdsega("train", "--resume", run)
-                else:
-                    preset, workers = preset_of(name), str(args.workers)
-                    qdsega("train", name, "--sim", "memo", "--preset", preset, "--seed",
-                           str(seed), "--workers", workers, "--out", run)  # fmt: skip
+            train(name, seed, run, args.workers)
             if not (run / "evaluation.json").is_file():
                 qdsega("evaluate", run)
             folders.append(run)

@@ -1,0 +1,47 @@
+"""Exact trials in batches: the same outcomes in this process and spread over workers, in the
+order given, and every command counted."""
+
+import numpy as np
+
+from qdsega.agent.policy import BoltzmannPolicy, GreedyPolicy
+from qdsega.description import load_formation, resolve_formation
+from qdsega.locomotion.exact_trials import ExactTrials
+from qdsega.locomotion.lower_agent import LowerAgentConfig
+from qdsega.simulation import PhysicsSettings
+from qdsega.task import TaskConfig
+
+
+def test_trials_in_workers_equal_trials_here_in_order():
+    formation = load_formation(resolve_formation("snake5"))
+    actions = np.array([[0, 8, 0, 8], [8, 0, 8, 0], [4, 4, 4, 4]])
+    greedy = GreedyPolicy(
+        q=np.random.default_rng(0).random((3 * 4, 3)),
+        actions=actions,
+        postures=np.vstack([formation.rest_levels(), actions[:2]]),
+        next_interior=np.array([1, 2, 0]),
+    )
+    sequences = [actions[[0, 1, 0, 1, 2]], actions[[1, 1, 2, 0, 0]]]
+    results = []
+    for workers in (1, 2):
+        policies = [
+            BoltzmannPolicy(greedy=greedy, temperature=0.5, rng=np.random.default_rng(k))
+            for k in range(3)
+        ] + [greedy]  # new generators each time: a trial here draws from the one given
+        with ExactTrials(
+            formation=formation,
+            task=TaskConfig(trial_steps=5),
+            lower_agent=LowerAgentConfig(),
+            physics=PhysicsSettings(),
+            workers=workers,
+        ) as trials:
+            rollouts = trials.rollouts(policies, steps=5)
+            replays = trials.replays(sequences)
+            assert trials.commands == sum(len(r.postures) for r in rollouts) + sum(
+                r.completed + (r.failure is not None) for r in replays
+            )
+        results.append((rollouts, replays))
+    (here, here_replays), (there, there_replays) = results
+    for a, b in zip(here, there, strict=True):
+        assert np.array_equal(a.postures, b.postures) and np.array_equal(a.poses, b.poses)
+    assert here_replays == there_replays
+    assert len({r.distance_m for r in here}) > 1  # the exploring trials differ
