@@ -71,7 +71,10 @@ class TrainingConfig:
             generation, the greedy policy of a further learning phase on the table whose
             unobserved forward moves are the measured ones plus ``optimism`` times the RMS
             gap between measured and observed moves (an upper confidence bound), so that
-            exact physics tries what the table may underrate; 0 for none (-).
+            exact physics tries what the table may underrate; 0 for none (-). 1.0: on snake5
+            it found gaits the greedy policy then kept, and the greedy replay stayed within
+            10 % of its prediction in 29 of 30 generations; 3.0 found the same gaits but the
+            greedy policy strayed more (21 of 30; ``qdsega/agent/README.md``).
     """
 
     preset: str = DEFAULT_PRESET
@@ -86,7 +89,7 @@ class TrainingConfig:
     workers: int = 2
     ground_table: bool = True
     explore_trials: int = 4
-    optimism: float = 0.0
+    optimism: float = 1.0
 
     def __post_init__(self) -> None:
         if self.workers < 1:
