@@ -2,6 +2,7 @@
 
 Usage: .venv/bin/python tools/reconfiguration_table.py [--seeds 0 1 2] [--grid runs/grid]
                                                         [--out runs/reconfiguration] [--workers 2]
+                                                        [--changes NEW ...]
 
 For each change (a shipped formation and its changed version, ``CHANGES``) and seed: the old
 formation's run ``GRID/OLD-seedS`` (as ``tools/fidelity_grid.py`` trains it: memo mode, the
@@ -96,9 +97,12 @@ def main() -> None:
     parser.add_argument("--grid", type=Path, default=Path("runs/grid"))
     parser.add_argument("--out", type=Path, default=Path("runs/reconfiguration"))
     parser.add_argument("--workers", type=int, default=2)
+    parser.add_argument(
+        "--changes", nargs="+", default=[c[1] for c in CHANGES], help="changed formations"
+    )
     args = parser.parse_args()
     rows, aggregates = [], []
-    for old, new, what in CHANGES:
+    for old, new, what in (c for c in CHANGES if c[1] in args.changes):
         found = []
         for seed in args.seeds:
             base = args.grid / f"{old}-seed{seed}"
