@@ -33,6 +33,16 @@ from qdsega.description import Formation
 
 _CLASSES = ("matched", "dropped", "locked", "added")
 
+KEPT_SHARE = 0.5
+"""Share of a warm-started population drawn from the old run's; the rest is random (-). A
+changed body needs postures its old gait never used, and a converged population holds few
+(a quadruped's last 40 individuals: 15 postures, 11 once its back right leg is gone); at the
+legged presets' mutation rate (0.001 per character) new ones arrive slowly. Measured on
+``quadruped_tripod`` warm-started from quadruped runs (seeds 0-2, memo-legged): with the whole
+population mapped, 2 of 3 seeds never reached 0.9 of a fresh run's final distance and ended
+at 0.356 and 0.353 m (fresh: 0.529, 0.495 m); with half, every seed reached it and ended at
+0.652, 0.532 and 0.529 m (``qdsega/agent/README.md`` has the table)."""
+
 
 @dataclass(frozen=True)
 class JointMapping:
@@ -180,9 +190,10 @@ def warm_state(
     Every old action (distinct posture) becomes one new posture: matched joints at the
     nearest level, each added joint at a level drawn from ``rng`` once per old action (so
     copies of one action stay copies, and the old Q-table carries over to them through
-    ``carry_q``). The population is the old one so mapped (drawn from it with replacement
-    when ``population`` differs); the old Q-table is the "previous generation" whose values
-    the first generation starts from; there is no elite yet.
+    ``carry_q``). :data:`KEPT_SHARE` of the population is drawn (with replacement, so an
+    action keeps its weight) from the old population so mapped, the rest at random as a fresh
+    run's; the old Q-table is the "previous generation" whose values the first generation
+    starts from; there is no elite yet.
 
     Args:
         levels: level count of each new joint, shape (J_new,).
@@ -200,9 +211,9 @@ def warm_state(
     actions = mapping.postures(space.actions, draws)
     of_action = {a.tobytes(): k for k, a in enumerate(space.actions)}
     genes = np.array([of_action[g.astype(np.int64).tobytes()] for g in source.population])
-    mapped = actions[genes]
-    if len(mapped) != population:
-        mapped = mapped[rng.integers(len(mapped), size=population)]
+    kept = actions[genes][rng.integers(len(genes), size=round(KEPT_SHARE * population))]
+    fresh = (rng.random((population - len(kept), len(levels))) * levels).astype(np.int64)
+    mapped = np.vstack([kept, fresh])
     interior = np.empty((space.n_interior, len(levels)), dtype=np.int64)
     interior[space.next_interior] = actions  # interior k > 0 is the posture of its action
     interior[0] = start

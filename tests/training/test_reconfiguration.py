@@ -105,7 +105,7 @@ def test_a_policy_on_the_new_body_keeps_its_table_and_holds_added_joints_at_rest
     assert np.array_equal(moved.next_interior, policy.next_interior)
 
 
-def test_a_warm_state_maps_the_population_and_keeps_copies_copies(old, new):
+def test_a_warm_state_keeps_half_the_mapped_population_and_its_table(old, new):
     population = np.array([[0, 0, 0], [2, 1, 0], [0, 0, 0], [1, 1, 1]])
     space = ExplorationSpace.from_population(population, np.array([1, 1, 1]))
     q = np.arange(space.n_interior * 4 * space.n_actions, dtype=float).reshape(-1, space.n_actions)
@@ -123,10 +123,13 @@ def test_a_warm_state_maps_the_population_and_keeps_copies_copies(old, new):
         mapping, source, levels=levels, start=start, population=4, rng=np.random.default_rng(0)
     )
     assert state.completed == 0 and state.elite[1] is None and len(state.elite[0]) == 0
-    assert state.population[0].tolist() == state.population[2].tolist()  # copies stay copies
-    assert [row[0] for row in state.population] == [0, 2, 0, 1]  # b at the nearest level
-    assert all(0 <= row[1] < 3 and 0 <= row[2] < 2 for row in state.population)  # drawn
     mapped, carried = state.previous
+    kept = state.population[:2]  # KEPT_SHARE of 4: drawn from the mapped old population
+    assert all(row.tolist() in mapped.actions.tolist() for row in kept)
+    assert {row[0] for row in kept} <= {0, 2, 1}  # b at the nearest level of an old one
+    assert all(0 <= row[1] < 3 and 0 <= row[2] < 2 for row in state.population)
+    # every old action maps to one new posture: the two copies of [0 0 0] stay one action
+    assert len(np.unique(mapped.actions, axis=0)) == len(space.actions) == 3
     assert carried is q and mapped.postures[0].tolist() == start.tolist()
     # interior k > 0 is the (mapped) posture of the action that leads there
     for a, k in enumerate(mapped.next_interior):
