@@ -41,7 +41,7 @@ legged presets' mutation rate (0.001 per character) new ones arrive slowly. Meas
 ``quadruped_tripod`` warm-started from quadruped runs (seeds 0-2, memo-legged): with the whole
 population mapped, 2 of 3 seeds never reached 0.9 of a fresh run's final distance and ended
 at 0.356 and 0.353 m (fresh: 0.529, 0.495 m); with half, every seed reached it and ended at
-0.652, 0.532 and 0.529 m (``qdsega/agent/README.md`` has the table)."""
+0.652, 0.532 and 0.529 m (the README's "Reconfiguration" has the table)."""
 
 
 @dataclass(frozen=True)
