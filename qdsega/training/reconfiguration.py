@@ -36,7 +36,7 @@ _CLASSES = ("matched", "dropped", "locked", "added")
 KEPT_SHARE = 0.5
 """Share of a warm-started population drawn from the old run's; the rest is random (-). A
 changed body needs postures its old gait never used, and a converged population holds few
-(a quadruped's last 40 individuals: 15 postures, 11 once its back right leg is gone); at the
+(the last 40 individuals of quadruped seed 1: 15 postures, 11 once its back right leg is gone); at the
 legged presets' mutation rate (0.001 per character) new ones arrive slowly. Measured on
 ``quadruped_tripod`` warm-started from quadruped runs (seeds 0-2, memo-legged): with the whole
 population mapped, 2 of 3 seeds never reached 0.9 of a fresh run's final distance and ended
