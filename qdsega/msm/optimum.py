@@ -152,5 +152,5 @@ def msm_optimum(
     lx, ly = light_xy
     distance = math.hypot(lx, ly) - math.hypot(lx - pose[0], ly - pose[1])
     ahead = abs(ly) < 1e-12 and lx > 0
-    exact = ahead and abs(distance - bound) <= 1e-9 * max(1.0, bound)
+    exact = bool(ahead and abs(distance - bound) <= 1e-9 * max(1.0, bound))  # JSON-safe
     return Optimum(distance_m=distance, exact=exact, bound_m=bound, postures=sequence)
