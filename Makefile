@@ -32,4 +32,4 @@ lint: setup
 	$(BIN)/ruff format --check qdsega tools tests
 
 test: lint
-	$(BIN)/pytest -q
+	$(BIN)/pytest -q -n 2
