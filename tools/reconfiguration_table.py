@@ -98,7 +98,11 @@ def main() -> None:
     parser.add_argument("--out", type=Path, default=Path("runs/reconfiguration"))
     parser.add_argument("--workers", type=int, default=2)
     parser.add_argument(
-        "--changes", nargs="+", default=[c[1] for c in CHANGES], help="changed formations"
+        "--changes",
+        nargs="+",
+        choices=[c[1] for c in CHANGES],
+        default=[c[1] for c in CHANGES],
+        help="changed formations",
     )
     args = parser.parse_args()
     rows, aggregates = [], []

@@ -25,6 +25,7 @@ from typing import Any
 
 import numpy as np
 
+from qdsega.agent.genetic import random_population
 from qdsega.agent.learner import LearnerState
 from qdsega.agent.policy import GreedyPolicy
 from qdsega.agent.space import ExplorationSpace
@@ -213,7 +214,7 @@ def warm_state(
     of_action = {a.tobytes(): k for k, a in enumerate(space.actions)}
     genes = np.array([of_action[g.astype(np.int64).tobytes()] for g in source.population])
     kept = actions[genes][rng.integers(len(genes), size=round(KEPT_SHARE * population))]
-    fresh = (rng.random((population - len(kept), len(levels))) * levels).astype(np.int64)
+    fresh = random_population(levels, population - len(kept), rng)
     mapped = np.vstack([kept, fresh])
     interior = np.empty((space.n_interior, len(levels)), dtype=np.int64)
     interior[space.next_interior] = actions  # interior k > 0 is the posture of its action
