@@ -9,7 +9,7 @@ BIN := $(VENV)/bin
 $(BIN)/qdsega: pyproject.toml
 	$(PYTHON) -m venv $(VENV)
 	$(BIN)/pip install --quiet --upgrade pip
-	$(BIN)/pip install --quiet -e ".[test]"
+	$(BIN)/pip install --quiet -e ".[test,ray]"
 	touch $(BIN)/qdsega
 
 setup: $(BIN)/qdsega

@@ -19,11 +19,12 @@ from pathlib import Path
 from formation_table import tables
 
 from qdsega.description import load_formation, resolve_formation
+from qdsega.training.config import default_preset
 
 
 def preset_of(name: str) -> str:
-    """The README's preset for a shipped formation (or a formation file)."""
-    return "memo-legged" if load_formation(resolve_formation(Path(name))).legs else "paper-snake"
+    """The README's memo-mode preset for a shipped formation (or a formation file)."""
+    return default_preset(load_formation(resolve_formation(Path(name))), "memo")
 
 
 def qdsega(*args: str | Path) -> None:

@@ -16,12 +16,12 @@ from qdsega.training.run import TrainingInterrupted, budget_overrides, resume, t
 NAME = "train"
 HELP = "learn locomotion with QDSEGA and write a run folder (or continue one with --resume)"
 RUNS_DIR = Path("runs")
+"""Where run folders go when --out is not given."""
 _RUN_OPTIONS = (
-    "sim", "workers", "preset", "config", "seed", "out", "overwrite", "generations", "trials",
-    "light_bearing_deg", "warm_start", "allow_unmatched",
+    "sim", "workers", "ray", "preset", "config", "seed", "out", "overwrite", "generations",
+    "trials", "light_bearing_deg", "warm_start", "allow_unmatched",
 )  # fmt: skip
 """Options that configure a new run, which --resume does not take."""
-"""Where run folders go when --out is not given."""
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -42,6 +42,12 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     )
     parser.add_argument(
         "--workers", type=int, metavar="N", help="processes measuring memo transitions"
+    )
+    parser.add_argument(
+        "--ray",
+        metavar="local|ADDRESS",
+        help="the workers are Ray actors: local starts Ray on this machine, an address joins a "
+        "cluster (pip install 'qdsega[ray]'); the run learns the same",
     )
     parser.add_argument(
         "--preset",
@@ -142,7 +148,7 @@ def run_config(args: argparse.Namespace) -> TrainingConfig:
         FormationError: unknown preset, bad configuration file or value.
     """
     overrides = budget_overrides(generations=args.generations, trials=args.trials, seed=args.seed)
-    for key in ("sim", "workers", "light_bearing_deg"):
+    for key in ("sim", "workers", "ray", "light_bearing_deg"):
         if getattr(args, key) is not None:
             overrides[key] = getattr(args, key)
     return resolve_config(preset=args.preset, file=args.config, overrides=overrides)

@@ -11,7 +11,6 @@ of workers or on which worker ran it, and a batch comes back in the order it was
 from __future__ import annotations
 
 from collections.abc import Sequence
-from concurrent.futures import ProcessPoolExecutor
 
 import numpy as np
 
@@ -20,7 +19,7 @@ from qdsega.description import Formation
 from qdsega.locomotion.env import LocomotionEnv, Replay, replay_postures
 from qdsega.locomotion.env_world import EnvWorld
 from qdsega.locomotion.lower_agent import LowerAgentConfig
-from qdsega.parallel import worker_pool
+from qdsega.parallel import Pool, worker_pool
 from qdsega.simulation import PhysicsSettings
 from qdsega.task import TaskConfig
 
@@ -33,7 +32,9 @@ class ExactTrials:
         task: trial length, reward, penalty and exterior bins.
         lower_agent: how postures are executed and when that fails.
         physics: engine settings.
-        workers: processes running trials (1: one env in this process).
+        workers: processes running trials (1: one env in this process, unless ``ray``).
+        ray: run trials on Ray actors instead: ``local`` or a cluster address
+            (:mod:`qdsega.ray_pool`).
     """
 
     def __init__(
@@ -44,16 +45,17 @@ class ExactTrials:
         lower_agent: LowerAgentConfig,
         physics: PhysicsSettings,
         workers: int,
+        ray: str | None = None,
     ) -> None:
         if workers < 1:
             raise ValueError(f"workers must be at least 1, got {workers}")
         rules = (formation, task, lower_agent, physics)
         self._env: LocomotionEnv | None = None
-        self._pool: ProcessPoolExecutor | None = None
+        self._pool: Pool | None = None
         self.commands = 0
         """Postures commanded in every trial so far (upper-agent steps simulated)."""
-        if workers > 1:
-            self._pool = worker_pool(workers, _init_worker, rules)
+        if workers > 1 or ray is not None:
+            self._pool = worker_pool(workers, _init_worker, rules, ray=ray)
         else:
             self._env = _env(*rules)
 

@@ -17,7 +17,6 @@ made them or in which order.
 
 from __future__ import annotations
 
-from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 
 import numpy as np
@@ -27,7 +26,7 @@ from qdsega.assembly import assemble
 from qdsega.atomic import replaced_atomically
 from qdsega.description import Formation
 from qdsega.locomotion.lower_agent import LowerAgent, LowerAgentConfig
-from qdsega.parallel import worker_pool
+from qdsega.parallel import Pool, worker_pool
 from qdsega.simulation import PhysicsSettings
 from qdsega.simulation.bullet import BulletSimulation
 from qdsega.task import relative_move
@@ -46,7 +45,10 @@ class MeasuredTransitions:
         lower_agent: how postures are executed and when that fails.
         physics: engine settings.
         start_levels: the posture every trial starts from (J,); default the rest posture.
-        workers: processes measuring in parallel (1 measures in this process).
+        workers: processes measuring in parallel (1 measures in this process, unless
+            ``ray`` is given).
+        ray: measure on Ray actors instead of processes: ``local`` or a cluster address
+            (:mod:`qdsega.ray_pool`); the table is the same bit for bit.
     """
 
     def __init__(
@@ -57,6 +59,7 @@ class MeasuredTransitions:
         physics: PhysicsSettings | None = None,
         start_levels: tuple[int, ...] | None = None,
         workers: int = 2,
+        ray: str | None = None,
     ) -> None:
         if workers < 1:
             raise ValueError(f"workers must be at least 1, got {workers}")
@@ -65,9 +68,10 @@ class MeasuredTransitions:
         self.lower_agent = lower_agent
         self.physics = physics or PhysicsSettings()
         self.workers = workers
+        self.ray = ray
         self._start = np.array(start_levels or formation.rest_levels(), dtype=np.int64)
         self._table: dict[bytes, np.ndarray] = {}
-        self._pool: ProcessPoolExecutor | None = None
+        self._pool: Pool | None = None
         self._stored: tuple[Path, int] | None = None  # file holding the whole table, its size
         self.measured = 0
         """Transitions measured by this object (not loaded from a file)."""
@@ -136,12 +140,12 @@ class MeasuredTransitions:
         if not jobs:
             return
         args = (self.formation, self.lower_agent, self.physics)
-        if self.workers == 1:
+        if self.workers == 1 and self.ray is None:
             _init_worker(*args)
             results = [_measure_from(*job) for job in jobs]
         else:
             if self._pool is None:
-                self._pool = worker_pool(self.workers, _init_worker, args)
+                self._pool = worker_pool(self.workers, _init_worker, args, ray=self.ray)
             results = list(self._pool.map(_measure_from, *zip(*jobs, strict=True)))
         for (source, missing), rows in zip(jobs, results, strict=True):
             for target, row in zip(missing, rows, strict=True):

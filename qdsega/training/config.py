@@ -61,7 +61,11 @@ class TrainingConfig:
         msm: the Minimal Simulation Model's constants.
         lower_agent: how PyBullet worlds execute postures and when that fails.
         physics: PyBullet engine settings.
-        workers: processes measuring memo transitions in parallel.
+        workers: processes measuring memo transitions in parallel (and running exact
+            trials).
+        ray: None for local processes; ``local`` (a Ray instance started on this machine) or
+            a Ray cluster's address: the workers are Ray actors there
+            (:mod:`qdsega.ray_pool`). What a run learns does not depend on it.
         ground_table: memo mode: correct the table with the moves that each generation's
             exact replay of its greedy policy went through (:mod:`qdsega.agent.grounding`).
         explore_trials: memo mode with ``ground_table``: trials of each generation's
@@ -87,6 +91,7 @@ class TrainingConfig:
     lower_agent: LowerAgentConfig = field(default_factory=LowerAgentConfig)
     physics: PhysicsSettings = field(default_factory=PhysicsSettings)
     workers: int = 2
+    ray: str | None = None
     ground_table: bool = True
     explore_trials: int = 4
     optimism: float = 1.0
@@ -110,6 +115,14 @@ class TrainingConfig:
             return formation
         light = Light(formation.light.distance_m, math.radians(self.light_bearing_deg))
         return formation.with_light(light)
+
+
+def default_preset(formation: Formation, sim: str) -> str:
+    """The README's preset for ``formation`` in world ``sim``: ``paper-legged`` in the MSM,
+    else ``memo-legged`` for a legged body and ``paper-snake`` for a legless one."""
+    if sim == "msm":
+        return "paper-legged"
+    return "memo-legged" if formation.legs else "paper-snake"
 
 
 def resolve_config(

@@ -178,6 +178,7 @@ def build_world(formation: Formation, config: TrainingConfig, run: Path) -> Trai
         lower_agent=config.lower_agent,
         physics=config.physics,
         workers=config.workers,
+        ray=config.ray,
     )
     if (run / MEMO_FILE).is_file():
         memo.load(run / MEMO_FILE)
@@ -196,6 +197,7 @@ def build_world(formation: Formation, config: TrainingConfig, run: Path) -> Trai
         lower_agent=config.lower_agent,
         physics=config.physics,
         workers=config.workers,
+        ray=config.ray,
     )
     return TrainingWorld(
         provider,

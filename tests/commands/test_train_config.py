@@ -14,6 +14,7 @@ sim: memo
 seed: 3
 workers: 1
 light_bearing_deg: 30.0
+ray: local
 agent:
   genetic: {generations: 4, population: 12}
   learning: {trials: 50}
@@ -32,13 +33,17 @@ def _config(tmp_path, text: str | None, *flags: str):
 def test_without_file_or_flags_the_defaults():
     config = run_config(build_parser().parse_args(["train", "snake5"]))
     assert (config.preset, config.sim, config.seed, config.workers) == ("paper-legged", "msm", 0, 2)
-    assert config.light_bearing_deg is None and config.agent.genetic.population == 200
+    assert (
+        config.light_bearing_deg is None
+        and config.ray is None
+        and config.agent.genetic.population == 200
+    )
 
 
 def test_the_file_sets_every_key_a_flag_sets(tmp_path):
     config = _config(tmp_path, EVERY_KEY)
     assert (config.preset, config.sim, config.seed, config.workers) == ("paper-snake", "memo", 3, 1)
-    assert config.light_bearing_deg == 30.0
+    assert config.light_bearing_deg == 30.0 and config.ray == "local"
     assert (config.agent.genetic.generations, config.agent.learning.trials) == (4, 50)
     assert config.agent.genetic.population == 12  # the file over the preset's 30
     assert config.agent.genetic.crossover == "one-point"  # the file's preset: paper-snake's
@@ -48,7 +53,7 @@ def test_flags_override_the_file(tmp_path):
     config = _config(
         tmp_path, EVERY_KEY,
         "--preset", "memo-legged", "--sim", "pybullet", "--seed", "9", "--workers", "3",
-        "--light-bearing-deg", "-45", "--generations", "2", "--trials", "7",
+        "--light-bearing-deg", "-45", "--generations", "2", "--trials", "7", "--ray", "ray://h:1",
     )  # fmt: skip
     assert (config.preset, config.sim, config.seed, config.workers) == (
         "memo-legged",
@@ -56,7 +61,7 @@ def test_flags_override_the_file(tmp_path):
         9,
         3,
     )
-    assert config.light_bearing_deg == -45.0
+    assert config.light_bearing_deg == -45.0 and config.ray == "ray://h:1"
     assert (config.agent.genetic.generations, config.agent.learning.trials) == (2, 7)
     assert config.agent.genetic.population == 12  # still the file's: no flag sets it
     assert config.agent.genetic.crossover == "uniform"  # memo-legged's, as --preset says

@@ -1,0 +1,274 @@
+"""A sweep: a grid of trainings, each into its own run folder, evaluated, then one table.
+
+A grid file (``GRID.yaml``)::
+
+    formations: [snake5, quadruped]   # shipped names or files (relative to GRID.yaml)
+    seeds: [0, 1, 2]                  # default [0]
+    sim: memo                         # default memo
+    presets: [memo-legged]            # default: each formation's README preset
+    configs:                          # named settings over the preset (keys as in config.yaml)
+      default: {}
+      short: {agent: {genetic: {generations: 5}}}
+    reference_trials: 600             # qdsega evaluate's CMA-ES budget (trials; 0: none)
+
+Every combination formation x preset x config x seed is one run, trained by ``qdsega train``
+into ``OUT/FORMATION-PRESET-CONFIG-seedS`` and evaluated by ``qdsega evaluate``, each in its own
+process: a run that fails is reported with the last line its command printed on stderr, and
+the others go on. A finished, evaluated run is kept, an unfinished one resumed, so running a
+sweep again finishes what a crash left. The table (``OUT/sweep.csv``, ``OUT/sweep.md``) holds
+only what the runs' files say, so the same grid gives the same table wherever it ran.
+
+Runs go to local processes (``jobs`` at a time), or with ``ray`` to Ray tasks (one CPU each) on
+this machine or a cluster, whose nodes need qdsega installed and ``OUT`` on a shared file system.
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+import itertools
+import subprocess
+import sys
+from collections.abc import Callable, Sequence
+from concurrent.futures import ThreadPoolExecutor
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import yaml
+
+from qdsega.description import load_formation, resolve_formation
+from qdsega.errors import FormationError
+from qdsega.training.config import SIMULATORS, default_preset, resolve_config
+from qdsega.training.run_folder import EVALUATION_FILE, SUMMARY_FILE, read_evaluation, read_summary
+
+GRID_KEYS = ("formations", "seeds", "sim", "presets", "configs", "reference_trials")
+"""The keys a grid file may have."""
+TABLE_COLUMNS = (
+    "run", "formation", "preset", "config", "seed", "status", "distance_m",
+    "memo_prediction_m", "ratio", "reference", "reference_m", "generations", "sim_steps",
+    "error",
+)  # fmt: skip
+"""Columns of the sweep table: distances in metres; ``sim_steps`` upper-agent steps simulated
+(memo transitions measured and exact trials' commands); ``ratio`` exact distance over the best
+reference's; ``error`` the failed command's last line."""
+
+
+@dataclass(frozen=True)
+class SweepRun:
+    """One run of a sweep.
+
+    Attributes:
+        name: its folder name, ``FORMATION-PRESET-CONFIG-seedS``.
+        formation: the formation file.
+        sim: the world (``msm``, ``memo``, ``pybullet``).
+        preset: the preset it starts from.
+        config: the name of its settings in the grid's ``configs``.
+        config_file: those settings as a YAML file (``qdsega train --config``).
+        seed: its seed.
+        reference_trials: ``qdsega evaluate --reference-trials`` (None: evaluate's default).
+    """
+
+    name: str
+    formation: Path
+    sim: str
+    preset: str
+    config: str
+    config_file: Path
+    seed: int
+    reference_trials: int | None
+
+
+def read_grid(file: Path, out: Path) -> list[SweepRun]:
+    """The runs of the grid ``file``, with their settings written to ``OUT/configs/``.
+
+    Raises:
+        FormationError: unreadable grid, unknown key, a formation that does not load, a bad
+            preset or setting (all checked before anything runs).
+    """
+    try:
+        grid = yaml.safe_load(Path(file).read_text(encoding="utf-8"))
+    except (OSError, yaml.YAMLError) as exc:
+        raise FormationError(f"cannot read the grid: {exc}", file=file) from None
+    if not isinstance(grid, dict) or "formations" not in grid:
+        raise FormationError("a grid is a mapping with at least formations: [...]", file=file)
+    unknown = sorted(set(grid) - set(GRID_KEYS))
+    if unknown:
+        message = f"unknown key {unknown[0]!r} (known: {', '.join(GRID_KEYS)})"
+        raise FormationError(message, file=file)
+    sim = grid.get("sim", "memo")
+    if sim not in SIMULATORS:
+        raise FormationError(
+            f"sim must be one of {', '.join(SIMULATORS)}", file=file, key_path="sim"
+        )
+    seeds = _list_of(grid.get("seeds", [0]), int, file, "seeds")
+    presets = _list_of(grid.get("presets", [None]), str, file, "presets", optional=True)
+    configs = grid.get("configs", {"default": {}})
+    if not isinstance(configs, dict) or not configs:
+        raise FormationError(
+            "expected a mapping of names to settings", file=file, key_path="configs"
+        )
+    trials = grid.get("reference_trials")
+    if trials is not None and (isinstance(trials, bool) or not isinstance(trials, int)):
+        raise FormationError("expected an integer", file=file, key_path="reference_trials")
+    formations = []
+    for given in _list_of(grid["formations"], str, file, "formations"):
+        path = Path(given)
+        if not path.is_absolute() and (file.parent / path).is_file():
+            path = file.parent / path
+        path = resolve_formation(path)
+        formations.append((path, load_formation(path)))
+    settings_of = {}
+    for name, settings in configs.items():
+        if not str(name).replace("_", "").replace("-", "").isalnum():
+            message = f"config name {name!r}: letters, digits, - and _ only (it names folders)"
+            raise FormationError(message, file=file)
+        if not isinstance(settings or {}, dict):
+            raise FormationError("expected a mapping", file=file, key_path=f"configs.{name}")
+        settings_of[str(name)] = settings or {}
+        for preset in presets:
+            resolve_config(
+                preset=preset or "paper-legged", overrides={**settings_of[str(name)], "sim": sim}
+            )
+    runs = []
+    for (path, formation), preset, name, seed in itertools.product(
+        formations, presets, settings_of, seeds
+    ):
+        preset = preset or default_preset(formation, sim)
+        label = f"{path.stem}-{preset}-{name}-seed{seed}"
+        config_file = out / "configs" / f"{name}.yaml"
+        runs.append(SweepRun(label, path.resolve(), sim, preset, name, config_file, seed, trials))
+    names = [r.name for r in runs]
+    if len(set(names)) != len(names):
+        message = "two formations share a file name: their runs would share a folder"
+        raise FormationError(message, file=file)
+    for name, settings in settings_of.items():  # written once everything is checked
+        (out / "configs").mkdir(parents=True, exist_ok=True)
+        text = yaml.safe_dump(settings, sort_keys=True)
+        (out / "configs" / f"{name}.yaml").write_text(text, encoding="utf-8")
+    return runs
+
+
+def _list_of(value: Any, kind: type, file: Path, key: str, *, optional: bool = False) -> list[Any]:
+    items = value if isinstance(value, list) else [value]
+    if not items or not all(
+        (isinstance(v, kind) and not isinstance(v, bool)) or (optional and v is None) for v in items
+    ):
+        raise FormationError(f"expected a list of {kind.__name__}", file=file, key_path=key)
+    return items
+
+
+def run_one(run: SweepRun, folder: Path) -> str:
+    """Train (or resume, or keep) and evaluate one run in ``folder``; ``"ok"`` or the failed
+    command's last line on stderr."""
+    steps: list[list[str]] = []
+    if not (folder / SUMMARY_FILE).is_file():
+        if (folder / "config.yaml").is_file():
+            steps.append(["train", "--resume", str(folder), "--quiet"])
+        else:
+            steps.append([
+                "train", str(run.formation), "--sim", run.sim, "--preset", run.preset,
+                "--config", str(run.config_file), "--seed", str(run.seed), "--out", str(folder),
+                "--quiet",
+            ])  # fmt: skip
+    if not (folder / EVALUATION_FILE).is_file():
+        budget = (
+            []
+            if run.reference_trials is None
+            else ["--reference-trials", str(run.reference_trials)]
+        )
+        steps.append(["evaluate", str(folder), *budget])
+    for args in steps:
+        done = subprocess.run(
+            [sys.executable, "-m", "qdsega.cli", *args], capture_output=True, text=True
+        )
+        if done.returncode != 0:
+            lines = [line for line in done.stderr.splitlines() if line.strip()]
+            return lines[-1] if lines else f"qdsega {args[0]} exited with {done.returncode}"
+    return "ok"
+
+
+def run_sweep(
+    runs: Sequence[SweepRun],
+    out: Path,
+    *,
+    jobs: int = 1,
+    ray: str | None = None,
+    report: Callable[[SweepRun, str], None] = lambda run, status: None,
+) -> list[dict[str, Any]]:
+    """Run every run into ``OUT/NAME`` (``jobs`` at a time, or as Ray tasks when ``ray`` is
+    ``local`` or an address); write and return the table's rows. ``report(run, status)`` is
+    called as each run ends."""
+    if jobs < 1:
+        raise ValueError(f"jobs must be at least 1, got {jobs}")
+    out = out.resolve()
+    folders = [out / run.name for run in runs]
+    if ray is not None:
+        from qdsega.ray_pool import connect
+
+        cluster = connect(ray)
+        remote = cluster.remote(num_cpus=1)(run_one)
+        pending = [remote.remote(run, folder) for run, folder in zip(runs, folders, strict=True)]
+        statuses = []
+        for run, task in zip(runs, pending, strict=True):
+            statuses.append(cluster.get(task))
+            report(run, statuses[-1])
+    else:
+        with ThreadPoolExecutor(jobs) as pool:  # each run is its own process: threads suffice
+            statuses = []
+            for run, status in zip(runs, pool.map(run_one, runs, folders), strict=True):
+                statuses.append(status)
+                report(run, status)
+    rows = [
+        _row(run, folder, status)
+        for run, folder, status in zip(runs, folders, statuses, strict=True)
+    ]
+    write_table(rows, out)
+    return rows
+
+
+def _row(run: SweepRun, folder: Path, status: str) -> dict[str, Any]:
+    row: dict[str, Any] = dict.fromkeys(TABLE_COLUMNS)
+    row.update(run=run.name, formation=run.formation.stem, preset=run.preset, config=run.config)
+    row["seed"] = run.seed
+    if status != "ok":
+        row.update(status="failed", error=status)
+        return row
+    summary, evaluation = read_summary(folder), read_evaluation(folder)
+    assert evaluation is not None, "run_one evaluates every run it reports ok"
+    row.update(
+        status="ok",
+        distance_m=evaluation["distance_m"],
+        memo_prediction_m=evaluation["memo_prediction_m"],
+        ratio=evaluation["ratio"],
+        reference=evaluation["reference"]["kind"],
+        reference_m=evaluation["reference"]["distance_m"],
+        generations=summary["generations"],
+        sim_steps=summary["sim_steps"],
+    )
+    return row
+
+
+def write_table(rows: Sequence[dict[str, Any]], out: Path) -> None:
+    """``OUT/sweep.csv`` (full precision) and ``OUT/sweep.md`` (4 decimals)."""
+    buffer = io.StringIO()
+    writer = csv.DictWriter(buffer, TABLE_COLUMNS, lineterminator="\n")
+    writer.writeheader()
+    writer.writerows(rows)
+    (out / "sweep.csv").write_text(buffer.getvalue(), encoding="utf-8")
+    (out / "sweep.md").write_text(markdown_table(rows), encoding="utf-8")
+
+
+def markdown_table(rows: Sequence[dict[str, Any]]) -> str:
+    """The rows as a Markdown table (numbers to 4 decimals, empty cells for missing values)."""
+
+    def cell(value: Any) -> str:
+        if value is None:
+            return ""
+        if isinstance(value, float):
+            return f"{value:.4f}"
+        return str(value).replace("|", "/")
+
+    lines = ["| " + " | ".join(TABLE_COLUMNS) + " |", "|" + "---|" * len(TABLE_COLUMNS)]
+    lines += ["| " + " | ".join(cell(row[c]) for c in TABLE_COLUMNS) + " |" for row in rows]
+    return "\n".join(lines) + "\n"

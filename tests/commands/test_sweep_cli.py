@@ -1,0 +1,87 @@
+"""``qdsega sweep``: a grid of runs into one table, on local processes and on Ray."""
+
+from __future__ import annotations
+
+import csv
+from pathlib import Path
+
+import pytest
+from helpers import run_cli
+
+GRID = """\
+formations: [quadruped, snake5]   # snake5 cannot run in the MSM: the broken run
+seeds: [0]
+sim: msm
+configs:
+  tiny: {agent: {genetic: {generations: 2, population: 6}, learning: {trials: 20}}, workers: 1}
+reference_trials: 0
+"""
+
+
+def _rows(out: Path) -> list[dict[str, str]]:
+    with (out / "sweep.csv").open() as file:
+        return list(csv.DictReader(file))
+
+
+@pytest.fixture(scope="module")
+def local_sweep(tmp_path_factory):
+    folder = tmp_path_factory.mktemp("sweep")
+    (folder / "grid.yaml").write_text(GRID)
+    result = run_cli("sweep", folder / "grid.yaml", "--out", folder / "out", "--jobs", "2")
+    return folder, result
+
+
+def test_a_broken_run_is_reported_and_the_others_finish(local_sweep):
+    folder, result = local_sweep
+    assert result.returncode == 1, result.stderr
+    assert "1 of 2 runs finished" in result.stdout
+    ok, broken = _rows(folder / "out")
+    assert ok["run"] == "quadruped-paper-legged-tiny-seed0" and ok["status"] == "ok"
+    assert float(ok["distance_m"]) >= 0 and ok["reference"] == "classic leg gait"
+    assert broken["status"] == "failed"
+    assert "Minimal Simulation Model needs a legged formation" in broken["error"]
+    assert "snake5-paper-legged-tiny-seed0: qdsega train: error:" in result.stdout
+    assert (folder / "out" / "sweep.md").read_text().count("\n") == 4  # header, rule, 2 rows
+
+
+def test_a_rerun_keeps_finished_runs_and_resumes_unfinished_ones(local_sweep):
+    folder, _ = local_sweep
+    first = (folder / "out" / "sweep.csv").read_text()
+    run = folder / "out" / "quadruped-paper-legged-tiny-seed0"
+    kept = (run / "evaluation.json").stat().st_mtime_ns
+    again = run_cli("sweep", folder / "grid.yaml", "--out", folder / "out")
+    assert (run / "evaluation.json").stat().st_mtime_ns == kept
+    assert (folder / "out" / "sweep.csv").read_text() == first, again.stderr
+    (run / "summary.json").unlink()  # as if the run had crashed before its end
+    (run / "evaluation.json").unlink()
+    resumed = run_cli("sweep", folder / "grid.yaml", "--out", folder / "out")
+    assert (run / "summary.json").is_file(), resumed.stdout + resumed.stderr
+    assert (folder / "out" / "sweep.csv").read_text() == first
+
+
+def test_ray_local_gives_the_same_table(local_sweep, tmp_path):
+    pytest.importorskip("ray", reason="Ray is an optional extra: pip install 'qdsega[ray]'")
+    folder, _ = local_sweep
+    out = tmp_path / "out"
+    result = run_cli("sweep", folder / "grid.yaml", "--out", out, "--ray", "local")
+    assert result.returncode == 1, result.stderr
+    local = {row["run"]: row for row in _rows(folder / "out")}
+    for row in _rows(out):
+        assert row == local[row["run"]]
+
+
+@pytest.mark.parametrize(
+    ("grid", "message"),
+    [
+        ("formations: [quadruped]\nseed: [0]\n", "unknown key 'seed'"),
+        ("formations: [nosuch]\n", "no such file, nor a shipped formation"),
+        ("formations: [quadruped]\nconfigs: {a: {agent: {nope: 1}}}\n", "unknown key"),
+        ("formations: [quadruped]\nsim: mujoco\n", "sim must be one of"),
+    ],
+)
+def test_a_bad_grid_exits_2_with_one_line_and_runs_nothing(tmp_path, grid, message):
+    (tmp_path / "grid.yaml").write_text(grid)
+    result = run_cli("sweep", tmp_path / "grid.yaml", "--out", tmp_path / "out")
+    assert result.returncode == 2
+    assert message in result.stderr and len(result.stderr.splitlines()) == 1
+    assert not list((tmp_path / "out").glob("*-seed*"))
