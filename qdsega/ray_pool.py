@@ -76,6 +76,11 @@ class RayPool:
         self._ray = connect(address)
         from ray.util import ActorPool
 
+        cpus = self._ray.cluster_resources().get("CPU", 0)
+        if workers > cpus:  # the actors would wait for CPUs forever
+            message = f"{workers} Ray workers need {workers} CPUs; the Ray cluster has {cpus:g}"
+            raise FormationError(message)
+
         actor = self._ray.remote(num_cpus=1)(_Actor)
         self._actors = [actor.remote(initializer, initargs) for _ in range(workers)]
         self._pool = ActorPool(self._actors)

@@ -8,6 +8,7 @@ import pytest
 from qdsega.description import load_formation
 from qdsega.locomotion.lower_agent import LowerAgentConfig
 from qdsega.locomotion.memo import MeasuredTransitions
+from qdsega.training.worlds import MEMO_FILE
 
 ray = pytest.importorskip("ray", reason="Ray is an optional extra: pip install 'qdsega[ray]'")
 
@@ -36,3 +37,30 @@ def test_a_memo_table_measured_by_ray_actors_equals_the_local_one(local_ray):
     assert remote.measured == 9
     for field in ("dx", "dy", "dtheta", "failed"):
         assert np.array_equal(getattr(measured, field), getattr(expected, field)), field
+
+
+TINY = "agent: {learning: {trials: 60}, genetic: {population: 8, generations: 3}}\n"
+TINY += "task: {trial_steps: 6}\n"
+
+
+def test_a_run_with_ray_local_learns_what_local_processes_learn(tmp_path):
+    from helpers import run_cli
+
+    (tmp_path / "tiny.yaml").write_text(TINY)
+    runs = {}
+    for name, extra in (("local", []), ("ray", ["--ray", "local"])):
+        runs[name] = tmp_path / name
+        result = run_cli(
+            "train", "snake5", "--sim", "memo", "--preset", "paper-snake", "--workers", "2",
+            "--config", tmp_path / "tiny.yaml", "--out", runs[name], "--quiet", *extra,
+        )  # fmt: skip
+        assert result.returncode == 0, result.stderr
+    memo = MEMO_FILE
+    with np.load(runs["local"] / memo) as local, np.load(runs["ray"] / memo) as ray_:
+        assert np.array_equal(local["pairs"], ray_["pairs"])
+        assert np.array_equal(local["values"], ray_["values"])
+
+    def without_wall_time(run):  # the last column, wall_s, is the only one that may differ
+        return [line.rsplit(",", 1)[0] for line in (run / "metrics.csv").read_text().splitlines()]
+
+    assert without_wall_time(runs["ray"]) == without_wall_time(runs["local"])

@@ -32,9 +32,7 @@ class ExactTrials:
         task: trial length, reward, penalty and exterior bins.
         lower_agent: how postures are executed and when that fails.
         physics: engine settings.
-        workers: processes running trials (1: one env in this process, unless ``ray``).
-        ray: run trials on Ray actors instead: ``local`` or a cluster address
-            (:mod:`qdsega.ray_pool`).
+        workers: processes running trials (1: one env in this process).
     """
 
     def __init__(
@@ -45,7 +43,6 @@ class ExactTrials:
         lower_agent: LowerAgentConfig,
         physics: PhysicsSettings,
         workers: int,
-        ray: str | None = None,
     ) -> None:
         if workers < 1:
             raise ValueError(f"workers must be at least 1, got {workers}")
@@ -54,8 +51,8 @@ class ExactTrials:
         self._pool: Pool | None = None
         self.commands = 0
         """Postures commanded in every trial so far (upper-agent steps simulated)."""
-        if workers > 1 or ray is not None:
-            self._pool = worker_pool(workers, _init_worker, rules, ray=ray)
+        if workers > 1:
+            self._pool = worker_pool(workers, _init_worker, rules)
         else:
             self._env = _env(*rules)
 

@@ -64,8 +64,9 @@ class TrainingConfig:
         workers: processes measuring memo transitions in parallel (and running exact
             trials).
         ray: None for local processes; ``local`` (a Ray instance started on this machine) or
-            a Ray cluster's address: the workers are Ray actors there
-            (:mod:`qdsega.ray_pool`). What a run learns does not depend on it.
+            a Ray cluster's address: memo transitions are measured by ``workers`` Ray actors
+            there (:mod:`qdsega.ray_pool`), exact trials stay on local processes. What a run
+            learns does not depend on it.
         ground_table: memo mode: correct the table with the moves that each generation's
             exact replay of its greedy policy went through (:mod:`qdsega.agent.grounding`).
         explore_trials: memo mode with ``ground_table``: trials of each generation's

@@ -197,7 +197,6 @@ def build_world(formation: Formation, config: TrainingConfig, run: Path) -> Trai
         lower_agent=config.lower_agent,
         physics=config.physics,
         workers=config.workers,
-        ray=config.ray,
     )
     return TrainingWorld(
         provider,
