@@ -128,15 +128,15 @@ def main() -> int:
     rates = {name: memo_rate(name, args.transitions) for name in ("snake5", "legged12")}
     for name, rate in rates.items():
         print(f"memo transitions per second, one worker, {name}: {rate:.1f}", flush=True)
+    started, per_call = ray_overhead()  # first: the Ray instance starts here
+    print(f"Ray: local instance and 2 actors started in {started:.1f} s; {per_call * 1e3:.2f} ms "
+          "per call through the actor pool", flush=True)  # fmt: skip
     local, ray, same = sweep_times(args.sweep_seeds)
     print(
         f"sweep of {args.sweep_seeds} snake5 memo runs: local processes (--jobs 2) {local:.1f} s, "
         f"--ray local {ray:.1f} s ({ray / local:.2f}x); same table: {same}",
         flush=True,
     )
-    started, per_call = ray_overhead()
-    print(f"Ray: local instance and 2 actors started in {started:.1f} s; {per_call * 1e3:.2f} ms "
-          "per call through the actor pool")  # fmt: skip
     learning = MSM_PROTOCOL_S
     if args.protocols:
         snake, learning = protocol_times()
