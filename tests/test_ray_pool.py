@@ -39,7 +39,7 @@ def test_a_memo_table_measured_by_ray_actors_equals_the_local_one(local_ray):
         assert np.array_equal(getattr(measured, field), getattr(expected, field)), field
 
 
-TINY = "agent: {learning: {trials: 60}, genetic: {population: 8, generations: 3}}\n"
+TINY = "agent: {learning: {trials: 30}, genetic: {population: 6, generations: 2}}\n"
 TINY += "task: {trial_steps: 6}\n"
 
 
