@@ -65,14 +65,17 @@ def _compositions(total: int) -> tuple[tuple[int, int, int, int], ...]:
 
 def _side_moves(counts: Counts, u: float, v: float, min_down: int) -> dict[Counts, tuple]:
     """Best step to each next-counts from ``counts``: next -> (force, 4x4 transition counts)."""
+    every = np.array(list(itertools.product(*(_compositions(c) for c in counts))))  # (k, 4, 4)
+    targets = every.sum(axis=1)  # next counts of each, (k, 4)
+    forces = side_force(
+        u * (every[:, 0, 1] - every[:, 1, 0]), v * (every[:, 0, 0] + every[:, 1, 1])
+    )
     best: dict[Counts, tuple] = {}
-    for rows in itertools.product(*(_compositions(c) for c in counts)):
-        nxt: Counts = tuple(sum(row[j] for row in rows) for j in range(4))  # type: ignore[assignment]
-        if nxt[0] + nxt[1] < min_down:
-            continue
-        force = float(side_force(u * (rows[0][1] - rows[1][0]), v * (rows[0][0] + rows[1][1])))
-        if nxt not in best or force > best[nxt][0]:
-            best[nxt] = (force, np.array(rows))
+    for k in np.flatnonzero(targets[:, 0] + targets[:, 1] >= min_down):
+        nxt: Counts = tuple(targets[k].tolist())  # type: ignore[assignment]
+        force = float(forces[k])
+        if nxt not in best or force > best[nxt][0]:  # the first of equal forces stays
+            best[nxt] = (force, every[k])
     return best
 
 
