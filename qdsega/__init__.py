@@ -13,6 +13,12 @@ entry point is a string: PyBullet loads only when an env is made)."""
 
 gymnasium.register(id=ENV_ID, entry_point="qdsega.locomotion.env:LocomotionEnv")
 
+TABLE_ENV_ID = "qdsega/TableLocomotion-v0"
+"""The Gymnasium id of :class:`qdsega.training.table_env.TableLocomotionEnv`: the same task in
+a table world (the MSM or a memo table), for learners other than QDSEGA at table speed."""
+
+gymnasium.register(id=TABLE_ENV_ID, entry_point="qdsega.training.table_env:TableLocomotionEnv")
+
 
 def _data_folder(package: str) -> Path:
     """The folder of data package ``package``; installs are plain files, never zipped."""

@@ -1,0 +1,123 @@
+"""A Gymnasium environment over a table world: the MSM, or a formation's memo table.
+
+The same task as :class:`qdsega.locomotion.env.LocomotionEnv` (observation: the posture and
+the exterior state, ``MultiDiscrete([n_1, ..., n_J, n_bins])``; action: a posture,
+``MultiDiscrete([n_1, ..., n_J])``; reward eq. (17), the penalty ending an episode when the
+move fails, truncation after ``trial_steps``), but each step is one lookup of the posture pair
+in a :class:`qdsega.agent.world.TransitionProvider`: the Minimal Simulation Model (``msm``,
+legged formations) or the PyBullet transitions measured once each (``memo``: a pair not yet in
+the table is measured on first use, in this process). So a learner other than QDSEGA (PPO, say)
+runs at table speed in the same world QDSEGA learns in. The memo world here is the plain
+table, keyed by the posture pair alone, without the corrections a training run's grounding adds.
+
+Registered with Gymnasium as ``qdsega/TableLocomotion-v0`` when :mod:`qdsega` is imported::
+
+    env = gymnasium.make("qdsega/TableLocomotion-v0", formation="quadruped", world="msm")
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+
+import gymnasium as gym
+import numpy as np
+
+from qdsega.agent.world import TransitionProvider
+from qdsega.description import Formation, load_formation, resolve_formation
+from qdsega.msm import LegLayout, MinimalSimulationModel, MSMParameters
+from qdsega.task import Pose, Task, TaskConfig, move_pose
+
+WORLDS = ("msm", "memo")
+"""The table worlds this environment walks."""
+
+
+class TableLocomotionEnv(gym.Env[np.ndarray, np.ndarray]):
+    """Walk toward the light in a table world.
+
+    Args:
+        formation: a :class:`Formation`, a formation file, or a shipped formation's name.
+        world: ``msm`` or ``memo`` (module docstring).
+        task: trial length, reward, penalty and exterior bins.
+        msm: the MSM's constants (``world="msm"``).
+    """
+
+    metadata: dict[str, Any] = {"render_modes": []}  # noqa: RUF012 - Gymnasium's
+
+    def __init__(
+        self,
+        *,
+        formation: Formation | Path | str,
+        world: str = "msm",
+        task: TaskConfig | None = None,
+        msm: MSMParameters | None = None,
+    ) -> None:
+        if world not in WORLDS:
+            raise ValueError(f"world must be one of {', '.join(WORLDS)}, got {world!r}")
+        if not isinstance(formation, Formation):
+            formation = load_formation(resolve_formation(Path(formation)))
+        self.formation = formation
+        self.task = Task(config=task or TaskConfig(), light_xy=formation.light.position_m)
+        self.provider = _provider(formation, world, msm or MSMParameters())
+        levels = [len(joint.levels_rad) for joint in formation.joints]
+        self.action_space = gym.spaces.MultiDiscrete(levels)
+        self.observation_space = gym.spaces.MultiDiscrete([*levels, self.task.n_exterior])
+        self._posture = self.provider.start_posture()
+        self._pose: Pose = (0.0, 0.0, 0.0)
+        self._steps = 0
+
+    def reset(
+        self, *, seed: int | None = None, options: dict[str, Any] | None = None
+    ) -> tuple[np.ndarray, dict[str, Any]]:
+        super().reset(seed=seed)
+        self._posture = self.provider.start_posture()
+        self._pose = (0.0, 0.0, 0.0)
+        self._steps = 0
+        return self._observation(), self._info()
+
+    def step(self, action: np.ndarray) -> tuple[np.ndarray, float, bool, bool, dict[str, Any]]:
+        levels = np.asarray(action, dtype=np.int64)
+        if not self.action_space.contains(levels):
+            raise ValueError(f"action {action!r} is not in {self.action_space}")
+        move = self.provider.transitions(self._posture[None, :], levels[None, :])
+        self._steps += 1
+        self._posture = levels.copy()
+        failed = bool(move.failed[0, 0])
+        if failed:
+            reward = self.task.penalty
+        else:
+            before = self._pose
+            self._pose = move_pose(*before, move.dx[0, 0], move.dy[0, 0], move.dtheta[0, 0])
+            reward = self.task.reward(before, self._pose)
+        truncated = not failed and self._steps >= self.task.trial_steps
+        return self._observation(), float(reward), failed, truncated, self._info()
+
+    def distance_covered(self) -> float:
+        """Distance toward the light gained since the episode started (m)."""
+        return self.task.covered((0.0, 0.0, 0.0), self._pose)
+
+    def close(self) -> None:
+        close = getattr(self.provider, "close", None)
+        if close is not None:
+            close()
+
+    def _observation(self) -> np.ndarray:
+        return np.array([*self._posture, self.task.exterior(self._pose)], dtype=np.int64)
+
+    def _info(self) -> dict[str, Any]:
+        x, y, heading = self._pose
+        return {
+            "x_m": x,
+            "y_m": y,
+            "heading_rad": heading,
+            "distance_covered_m": self.distance_covered(),
+        }
+
+
+def _provider(formation: Formation, world: str, msm: MSMParameters) -> TransitionProvider:
+    if world == "msm":
+        return MinimalSimulationModel(legs=LegLayout.from_formation(formation), params=msm)
+    from qdsega.locomotion.lower_agent import LowerAgentConfig  # starts PyBullet: only here
+    from qdsega.locomotion.memo import MeasuredTransitions
+
+    return MeasuredTransitions(formation=formation, lower_agent=LowerAgentConfig(), workers=1)
