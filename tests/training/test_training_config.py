@@ -51,3 +51,16 @@ def test_bad_overrides(tmp_path, text, message):
     file.write_text(text)
     with pytest.raises(FormationError, match=message):
         resolve_config(file=file)
+
+
+def test_the_default_preset_follows_the_body_and_the_world():
+    from qdsega.description import load_formation
+    from qdsega.training.config import default_preset
+
+    snake, legged = (
+        load_formation("assemblies/snake5.yaml"),
+        load_formation("assemblies/hexapod.yaml"),
+    )
+    assert default_preset(legged, "msm") == "paper-legged"
+    assert default_preset(legged, "memo") == default_preset(legged, "pybullet") == "memo-legged"
+    assert default_preset(snake, "memo") == "paper-snake"
