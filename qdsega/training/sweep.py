@@ -126,10 +126,16 @@ def read_grid(file: Path, out: Path) -> list[SweepRun]:
         if not isinstance(settings or {}, dict):
             raise FormationError("expected a mapping", file=file, key_path=f"configs.{name}")
         settings_of[str(name)] = settings or {}
+        axes = sorted({"preset", "sim", "seed"} & set(settings_of[str(name)]))
+        if axes:
+            message = f"{axes[0]} is the grid's to set (presets, sim, seeds), not a config's"
+            raise FormationError(message, file=file, key_path=f"configs.{name}")
         for preset in presets:
-            resolve_config(
-                preset=preset or "paper-legged", overrides={**settings_of[str(name)], "sim": sim}
-            )
+            overrides = {**settings_of[str(name)], "sim": sim}
+            try:
+                resolve_config(preset=preset or "paper-legged", overrides=overrides)
+            except FormationError as exc:
+                raise FormationError(str(exc), file=file, key_path=f"configs.{name}") from None
     runs = []
     for (path, formation), preset, name, seed in itertools.product(
         formations, presets, settings_of, seeds

@@ -75,7 +75,8 @@ def test_ray_local_gives_the_same_table(local_sweep, tmp_path):
     [
         ("formations: [quadruped]\nseed: [0]\n", "unknown key 'seed'"),
         ("formations: [nosuch]\n", "no such file, nor a shipped formation"),
-        ("formations: [quadruped]\nconfigs: {a: {agent: {nope: 1}}}\n", "unknown key"),
+        ("formations: [quadruped]\nconfigs: {a: {agent: {nope: 1}}}\n", "configs.a: agent.nope"),
+        ("formations: [quadruped]\nconfigs: {a: {seed: 3}}\n", "seed is the grid's to set"),
         ("formations: [quadruped]\nsim: mujoco\n", "sim must be one of"),
     ],
 )
