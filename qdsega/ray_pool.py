@@ -25,11 +25,12 @@ LOCAL = "local"
 """The ``--ray`` value that starts a Ray instance on this machine."""
 
 
-def connect(address: str) -> Any:
-    """The ``ray`` module, connected to ``address`` (``local``: a new instance here).
+def connect(address: str, *, cpus: int = 0) -> Any:
+    """The ``ray`` module, connected to ``address`` (``local``: a new instance here), whose
+    cluster has at least ``cpus`` CPUs.
 
     Raises:
-        FormationError: Ray is not installed.
+        FormationError: Ray is not installed, or the cluster has fewer CPUs.
     """
     try:
         import ray
@@ -41,6 +42,11 @@ def connect(address: str) -> Any:
             options["num_cpus"] = os.cpu_count() or 1
             os.environ.setdefault("RAY_worker_niceness", "0")  # read by the raylet it starts
         ray.init(address=address, log_to_driver=False, **options)
+    available = ray.cluster_resources().get("CPU", 0)
+    if cpus > available:  # actors of one CPU each would wait forever
+        raise FormationError(
+            f"{cpus} Ray workers need {cpus} CPUs; the Ray cluster has {available:g}"
+        )
     return ray
 
 
@@ -73,13 +79,8 @@ class RayPool:
         *,
         address: str,
     ) -> None:
-        self._ray = connect(address)
+        self._ray = connect(address, cpus=workers)
         from ray.util import ActorPool
-
-        cpus = self._ray.cluster_resources().get("CPU", 0)
-        if workers > cpus:  # the actors would wait for CPUs forever
-            message = f"{workers} Ray workers need {workers} CPUs; the Ray cluster has {cpus:g}"
-            raise FormationError(message)
 
         actor = self._ray.remote(num_cpus=1)(_Actor)
         self._actors = [actor.remote(initializer, initargs) for _ in range(workers)]

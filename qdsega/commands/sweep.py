@@ -35,6 +35,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 def run(args: argparse.Namespace) -> int:
     if args.jobs < 1:
         raise FormationError(f"--jobs must be at least 1, got {args.jobs}")
+    if args.ray is not None:  # refused here, before anything is written
+        from qdsega.ray_pool import connect
+
+        connect(args.ray)
     out = args.out or Path("runs") / args.grid.stem
     runs = read_grid(args.grid, out)
     print(f"qdsega sweep: {len(runs)} runs -> {out}", flush=True)

@@ -104,6 +104,12 @@ def run(args: argparse.Namespace) -> int:
             raise FormationError("give a FORMATION.yaml to train, or --resume RUN")
         args.formation = resolve_formation(args.formation)
         config = run_config(args)
+        if config.ray is not None:  # refused here, before the run folder exists
+            if config.sim != "memo":
+                raise FormationError("--ray measures memo transitions: it goes with --sim memo")
+            from qdsega.ray_pool import connect
+
+            connect(config.ray, cpus=config.workers)
         out = args.out or RUNS_DIR / f"{args.formation.stem}-{config.sim}-seed{config.seed}"
         if args.allow_unmatched and args.warm_start is None:
             raise FormationError("--allow-unmatched goes with --warm-start RUN")

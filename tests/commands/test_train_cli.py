@@ -35,3 +35,10 @@ def test_msm_on_a_snake_is_a_one_line_error(cli, tmp_path):
     result = cli("train", ASSEMBLIES_DIR / "snake5.yaml", "--out", tmp_path / "r", "--quiet")
     assert result.returncode == 2
     assert "legged formation" in result.stderr and len(result.stderr.strip().splitlines()) == 1
+
+
+def test_ray_outside_memo_mode_is_refused_before_anything_is_written(tmp_path, cli):
+    result = cli("train", "quadruped", "--sim", "msm", "--ray", "local", "--out", tmp_path / "r")
+    assert result.returncode == 2
+    assert "--ray measures memo transitions: it goes with --sim memo" in result.stderr
+    assert not (tmp_path / "r").exists()
