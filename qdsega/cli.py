@@ -9,13 +9,13 @@ from collections.abc import Callable, Sequence
 from typing import TextIO
 
 from qdsega import __version__
-from qdsega.commands import assemble, evaluate, plot, render, report, sweep, train
+from qdsega.commands import assemble, bench, evaluate, plot, render, report, sweep, train
 from qdsega.errors import FormationError, QdsegaWarning
 
 ShowWarning = Callable[[Warning | str, type[Warning], str, int, TextIO | None, str | None], None]
 """The signature of ``warnings.showwarning``."""
 
-COMMANDS = (assemble, train, evaluate, plot, render, report, sweep)
+COMMANDS = (assemble, train, evaluate, plot, render, report, sweep, bench)
 """Each module provides ``NAME``, ``HELP``, ``add_arguments(parser)`` and ``run(args) -> int``."""
 
 

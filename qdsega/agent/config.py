@@ -125,6 +125,9 @@ class GeneticConfig:
             overrates other moves would otherwise breed away a gait that exact physics has
             shown to walk, and its learning curve falls below its own first generation;
             ``qdsega/agent/README.md``).
+        reproduce: reproduce the population after each generation (paper: True); False
+            keeps the random population drawn at the start for the whole run, the ablation
+            "Q-learning over a fixed random set of postures" that shows what the GA adds.
     """
 
     population: int = 200
@@ -134,6 +137,7 @@ class GeneticConfig:
     mutation_rate: float = 0.001
     selection: SelectionKind = "actions"
     elitism: bool = True
+    reproduce: bool = True
 
     def __post_init__(self) -> None:
         if self.population < 2 or self.generations < 1:

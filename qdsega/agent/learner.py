@@ -130,17 +130,17 @@ class QDSEGA:
             yield self.step()
 
     def step(self) -> Generation:
-        """Learn the next generation, then (unless it was the last) reproduce the population,
-        so that :meth:`state` afterwards is where the following generation starts."""
+        """Learn the next generation, then (unless it was the last, or ``genetic.reproduce`` is
+        off) reproduce the population, so that :meth:`state` afterwards is where the following
+        generation starts."""
         generation = self._learn_generation(self.completed + 1)
         self.completed += 1
-        if self.completed < self.config.genetic.generations:
+        genetic = self.config.genetic
+        if genetic.reproduce and self.completed < genetic.generations:
             weights = roulette_weights(
-                generation.fitness, generation.space.action_of, self.config.genetic.selection
+                generation.fitness, generation.space.action_of, genetic.selection
             )
-            self.population = reproduce(
-                self.population, weights, self.levels, self.config.genetic, self.rng
-            )
+            self.population = reproduce(self.population, weights, self.levels, genetic, self.rng)
         return generation
 
     def verify(self, generation: Generation, trial: Rollout) -> None:

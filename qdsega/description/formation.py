@@ -9,6 +9,7 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass, field, replace
+from functools import cached_property
 from pathlib import Path
 from typing import Literal
 
@@ -163,9 +164,10 @@ class Formation:
     def root(self) -> PlacedUnit:
         return self.units[0]
 
-    @property
+    @cached_property
     def joints(self) -> tuple[ActuatedJoint, ...]:
-        """Actuated joints in formation order: the learner's action dimensions."""
+        """Actuated joints in formation order: the learner's action dimensions (computed
+        once: a formation is immutable)."""
         return tuple(
             ActuatedJoint(u.joint_name, u.name, u.levels_rad, u.unit_type.joint)  # type: ignore[arg-type]
             for u in self.units

@@ -102,12 +102,12 @@ class CPGGait:
                 f"{formation.name} has {len(formation.joints)} joints, the gait "
                 f"{len(self.offset_rad)}"
             )
+        joints = formation.joints
+        levels = np.full((len(joints), max(len(j.levels_rad) for j in joints)), np.inf)
+        for j, joint in enumerate(joints):  # padded with levels no angle is near
+            levels[j, : len(joint.levels_rad)] = joint.levels_rad
         angles = self.angles_rad(steps=steps)
-        columns = [
-            np.argmin(np.abs(np.asarray(joint.levels_rad)[None, :] - angles[:, [j]]), axis=1)
-            for j, joint in enumerate(formation.joints)
-        ]
-        return np.stack(columns, axis=1).astype(np.int64)
+        return np.argmin(np.abs(levels[None] - angles[:, :, None]), axis=2).astype(np.int64)
 
     def to_dict(self) -> dict[str, Any]:
         """Plain types, for JSON."""

@@ -138,9 +138,9 @@ class MinimalSimulationModel:
     def side_forces(
         self, from_states: np.ndarray, to_states: np.ndarray
     ) -> tuple[np.ndarray, np.ndarray]:
-        """Eqs. (7)-(9) for every pair: leg states (n, L) and (m, L) -> (F^l, F^r), each (n, m)."""
-        a = np.asarray(from_states)[:, None, :]
-        b = np.asarray(to_states)[None, :, :]
+        """Eqs. (7)-(9): leg states (..., L) before and after, broadcast against each other
+        -> (F^l, F^r), each of the broadcast shape without the leg axis."""
+        a, b = np.asarray(from_states), np.asarray(to_states)
         drive = ((a == 1) & (b == 2)).astype(np.int64) - ((a == 2) & (b == 1))
         still = ((a == 1) & (b == 1)) | ((a == 2) & (b == 2))
         right = np.asarray(self.legs.right)
@@ -153,14 +153,27 @@ class MinimalSimulationModel:
 
     def transitions(self, from_postures: np.ndarray, to_postures: np.ndarray) -> Transitions:
         """Eqs. (7)-(13) for every (from, to) posture pair; ``dy`` is always 0."""
-        from_states = self.legs.states(np.atleast_2d(from_postures))
+        from_states = self.legs.states(np.atleast_2d(from_postures))[:, None, :]
         to_postures = np.atleast_2d(to_postures)
+        dx, dtheta, failed = self._moves(from_states, to_postures[None, :, :])
+        return Transitions(dx=dx, dy=np.zeros(dx.shape), dtheta=dtheta, failed=failed)
+
+    def moves(
+        self, from_postures: np.ndarray, to_postures: np.ndarray
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Eqs. (7)-(13) pair by pair: postures (..., J) before and after, of one shape ->
+        body-frame ``dx`` (m), ``dtheta`` (rad) and ``failed``, each of shape (...)."""
+        from_postures, to_postures = np.asarray(from_postures), np.asarray(to_postures)
+        if from_postures.shape != to_postures.shape:
+            raise ValueError(f"shapes differ: {from_postures.shape} and {to_postures.shape}")
+        return self._moves(self.legs.states(from_postures), to_postures)
+
+    def _moves(
+        self, from_states: np.ndarray, to_postures: np.ndarray
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         f_left, f_right = self.side_forces(from_states, self.legs.states(to_postures))
-        failed = np.broadcast_to(self.falls(to_postures)[None, :], f_left.shape)
+        failed = np.broadcast_to(self.falls(to_postures), f_left.shape).copy()
         moving = ~failed
-        return Transitions(
-            dx=np.where(moving, self.params.c_u * (f_left + f_right), 0.0),
-            dy=np.zeros(f_left.shape),
-            dtheta=np.where(moving, self.params.c_theta * (f_right - f_left), 0.0),
-            failed=failed.copy(),
-        )
+        dx = np.where(moving, self.params.c_u * (f_left + f_right), 0.0)
+        dtheta = np.where(moving, self.params.c_theta * (f_right - f_left), 0.0)
+        return dx, dtheta, failed

@@ -34,6 +34,7 @@ import math
 import os
 import sys
 import time
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -45,6 +46,7 @@ from qdsega.assembly import assemble
 from qdsega.atomic import replaced_atomically
 from qdsega.description import Formation
 from qdsega.locomotion.cpg import CPGGait
+from qdsega.locomotion.env import Replay
 from qdsega.locomotion.exact_trials import ExactTrials
 from qdsega.locomotion.lower_agent import LowerAgentConfig
 from qdsega.simulation import PhysicsSettings
@@ -340,15 +342,61 @@ def _search(
     seed: int,
     workers: int,
 ) -> tuple[CPGGait, float, int, list[float | None]]:
-    """CMA-ES over whole generations within the budget; when CMA-ES stops (every candidate
-    the same gait), it restarts from a random point with what is left of the budget.
+    """:func:`search_cpg` in exact physics, spread over ``workers`` processes.
 
     Returns:
         the best completed gait, its distance (m), trials run, best distance per iteration.
     """
+    rules = {"task": task, "lower_agent": lower_agent, "physics": physics}
+    with ExactTrials(formation=formation, workers=workers, **rules) as trials:
+        found = search_cpg(
+            formation,
+            replay=trials.replays,
+            trial_steps=task.trial_steps,
+            budget_trials=budget_trials,
+            seed=seed,
+        )
+    if found.best is None:
+        raise ValueError(
+            f"{formation.name}: none of {found.evaluations} trials completed without the lower "
+            "agent failing"
+        )
+    return found.best[1], found.best[0], found.evaluations, found.history_m
+
+
+@dataclass(frozen=True)
+class CPGSearch:
+    """What :func:`search_cpg` found.
+
+    Attributes:
+        best: the best completed trial's distance (m) and gait; None when none completed.
+        evaluations: trials run (-).
+        popsize: trials per CMA-ES iteration (-).
+        history_m: the best distance so far after each iteration (m; None before a trial
+            completed), one entry per ``popsize`` trials.
+    """
+
+    best: tuple[float, CPGGait] | None
+    evaluations: int
+    popsize: int
+    history_m: list[float | None]
+
+
+def search_cpg(
+    formation: Formation,
+    *,
+    replay: Callable[[list[np.ndarray]], Sequence[Replay]],
+    trial_steps: int,
+    budget_trials: int,
+    seed: int,
+) -> CPGSearch:
+    """CMA-ES over whole generations within the budget, every candidate one trial played by
+    ``replay`` (posture sequences (trial_steps, J) -> their outcomes, in order: exact
+    physics, or a table world); when CMA-ES stops (every candidate the same gait), it
+    restarts from a random point with what is left of the budget."""
     n = len(formation.joints)
     rng = np.random.default_rng(seed)
-    steps = task.trial_steps
+    steps = trial_steps
     unbounded = [None] * n  # phases wrap around
     options = {
         "bounds": [[0.0] * (2 * n) + unbounded + [0.0], [1.0] * (2 * n) + unbounded + [1.0]],
@@ -364,28 +412,21 @@ def _search(
     best: tuple[float, CPGGait] | None = None
     history: list[float | None] = []
     evaluations = 0
-    rules = {"task": task, "lower_agent": lower_agent, "physics": physics}
-    with ExactTrials(formation=formation, workers=workers, **rules) as trials:
-        while evaluations + es.popsize <= budget_trials:
-            if es.stop():
-                es = cma.CMAEvolutionStrategy(rng.uniform(size=3 * n + 1), SIGMA0, options)
-            points = es.ask()
-            gaits = [_gait(formation, np.asarray(x)) for x in points]
-            outcomes = trials.replays([g.postures(formation, steps=steps) for g in gaits])
-            costs = []
-            for gait, outcome in zip(gaits, outcomes, strict=True):
-                if outcome.failure is not None:
-                    costs.append(FAILED_COST + (steps - outcome.completed) / steps)
-                    continue
-                costs.append(-outcome.distance_m)
-                if best is None or outcome.distance_m > best[0]:
-                    best = (outcome.distance_m, gait)
-            es.tell(points, costs)
-            evaluations += len(points)
-            history.append(None if best is None else best[0])
-    if best is None:
-        raise ValueError(
-            f"{formation.name}: none of {evaluations} trials completed without the lower agent "
-            "failing"
-        )
-    return best[1], best[0], evaluations, history
+    while evaluations + es.popsize <= budget_trials:
+        if es.stop():
+            es = cma.CMAEvolutionStrategy(rng.uniform(size=3 * n + 1), SIGMA0, options)
+        points = es.ask()
+        gaits = [_gait(formation, np.asarray(x)) for x in points]
+        outcomes = replay([g.postures(formation, steps=steps) for g in gaits])
+        costs = []
+        for gait, outcome in zip(gaits, outcomes, strict=True):
+            if outcome.failure is not None:
+                costs.append(FAILED_COST + (steps - outcome.completed) / steps)
+                continue
+            costs.append(-outcome.distance_m)
+            if best is None or outcome.distance_m > best[0]:
+                best = (outcome.distance_m, gait)
+        es.tell(points, costs)
+        evaluations += len(points)
+        history.append(None if best is None else best[0])
+    return CPGSearch(best, evaluations, _popsize(formation), history)

@@ -1,0 +1,117 @@
+"""PPO from stable-baselines3 on the table world's Gymnasium environment.
+
+PPO learns in ``qdsega/TableLocomotion-v0`` (:mod:`qdsega.training.table_env`): the MSM, or for
+a PyBullet task the memo table, each pair measured in PyBullet on first use, so PPO runs at
+table speed where QDSEGA does and spends the same budget (MSM steps; PyBullet steps measured).
+Its hyperparameters are stable-baselines3's defaults but for ``n_steps``, the rollout length,
+which is also how often its deterministic policy is scored in exact physics (the MSM itself, or
+:class:`qdsega.locomotion.env.LocomotionEnv`); those scoring episodes are not counted in its
+budget, as QDSEGA's exact replays are (they steer its learning).
+
+Needs the ``bench`` extra: ``pip install 'qdsega[bench]'``.
+"""
+
+from __future__ import annotations
+
+import time
+from typing import Any
+
+import gymnasium as gym
+import numpy as np
+
+from qdsega.bench.curve import Curve
+from qdsega.bench.tasks import WORLDS, BenchTask
+from qdsega.training.table_env import TableLocomotionEnv
+
+ENVS = {"msm": 16, "pybullet": 1}
+"""Environments PPO steps side by side per world: in the MSM 16, so that each policy call
+serves 16 steps (stable-baselines3 spends most of its time building one distribution per joint
+per call); in PyBullet 1, since each environment would measure its own memo table (-)."""
+ROLLOUT_STEPS = {"msm": 2048, "pybullet": 256}
+"""Steps per PPO rollout, all environments together: stable-baselines3's default in the MSM;
+shorter in PyBullet, whose budget holds a few thousand steps (-)."""
+BATCH = 256
+"""PPO's minibatch (-): 4x stable-baselines3's default of 64, for 4x fewer gradient steps."""
+
+
+def ppo_curve(task: BenchTask, seed: int) -> Curve:
+    """One PPO run on ``task``: its deterministic policy's exact distance after every rollout.
+
+    Raises:
+        ModuleNotFoundError: stable-baselines3 is not installed (the message says how).
+    """
+    try:
+        import torch
+        from stable_baselines3 import PPO
+        from stable_baselines3.common.callbacks import BaseCallback
+        from stable_baselines3.common.vec_env import DummyVecEnv
+    except ModuleNotFoundError as exc:
+        raise ModuleNotFoundError(
+            f"the ppo method needs stable-baselines3 ({exc}): pip install 'qdsega[bench]'"
+        ) from None
+    torch.set_num_threads(1)
+    torch.distributions.Distribution.set_default_validate_args(False)
+    formation, config = task.load(), task.config(seed=seed)
+    envs = [
+        TableLocomotionEnv(
+            formation=formation, world=WORLDS[task.world], task=config.task, msm=config.msm
+        )
+        for _ in range(ENVS[task.world])
+    ]
+    vector = DummyVecEnv([lambda env=env: env for env in envs])
+    judge = _exact_env(task)
+    start = time.perf_counter()
+    points: list[tuple[int, float, float]] = []
+
+    def spent() -> int:
+        if task.world == "msm":
+            return model.num_timesteps
+        return int(envs[0].provider.measured)  # type: ignore[attr-defined]
+
+    class Score(BaseCallback):
+        def _on_rollout_end(self) -> None:
+            distance = _episode(judge, model)
+            points.append((spent(), distance, time.perf_counter() - start))
+
+        def _on_step(self) -> bool:
+            return spent() < task.budget_steps
+
+    n_steps = ROLLOUT_STEPS[task.world] // len(envs)
+    model = PPO(
+        "MlpPolicy", vector, n_steps=n_steps, batch_size=BATCH, seed=seed, device="cpu", verbose=0
+    )
+    try:
+        model.learn(total_timesteps=task.ppo_steps, callback=Score())
+        points.append((spent(), _episode(judge, model), time.perf_counter() - start))
+    finally:
+        vector.close()
+        judge.close()
+    return Curve.of(points).until(task.budget_steps)
+
+
+def _exact_env(task: BenchTask) -> gym.Env[np.ndarray, np.ndarray]:
+    """Where PPO's policy is scored: the MSM itself, or exact PyBullet."""
+    formation, config = task.load(), task.config(seed=0)
+    if task.world == "msm":
+        return TableLocomotionEnv(
+            formation=formation, world="msm", task=config.task, msm=config.msm
+        )
+    from qdsega.locomotion.env import LocomotionEnv  # starts PyBullet: only here
+
+    return LocomotionEnv(
+        formation=formation,
+        task=config.task,
+        lower_agent=config.lower_agent,
+        physics=config.physics,
+    )
+
+
+def _episode(env: Any, model: Any) -> float:
+    """Distance toward the light (m) of one episode of ``model``'s deterministic policy."""
+    observation, _ = env.reset(seed=0)
+    done = False
+    while not done:
+        action, _ = model.predict(observation, deterministic=True)
+        observation, _, terminated, truncated, _ = env.step(action)
+        done = terminated or truncated
+    return float(env.distance_covered())

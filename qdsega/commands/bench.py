@@ -1,0 +1,52 @@
+"""``qdsega bench``: QDSEGA against other learners, same tasks and budgets; BENCHMARKS.md."""
+
+from __future__ import annotations
+
+import argparse
+import importlib.util
+import sys
+from pathlib import Path
+
+from qdsega.errors import FormationError
+
+NAME = "bench"
+HELP = (
+    "run every method on every task for several seeds and write OUT/BENCHMARKS.md and its "
+    "figures (re-running continues; about an hour on 2 cores, --quick a few minutes)"
+)
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument(
+        "--quick", action="store_true", help="tiny budgets: checks the pipeline in minutes"
+    )
+    parser.add_argument(
+        "--out", type=Path, metavar="DIR",
+        help="where runs, results and the report go (default benchmarks, with --quick "
+        "runs/bench-quick)",
+    )  # fmt: skip
+    parser.add_argument("--jobs", type=int, default=2, metavar="N", help="runs at a time")
+
+
+def run(args: argparse.Namespace) -> int:
+    from qdsega.bench.runner import bench_runs, run_bench
+    from qdsega.bench.tasks import FULL, QUICK
+
+    if args.jobs < 1:
+        raise FormationError(f"--jobs must be at least 1, got {args.jobs}")
+    tasks = QUICK if args.quick else FULL
+    if (
+        any("ppo" in t.methods for t in tasks)
+        and importlib.util.find_spec("stable_baselines3") is None
+    ):
+        raise FormationError("the ppo method needs stable-baselines3: pip install 'qdsega[bench]'")
+    out = args.out or Path("runs/bench-quick" if args.quick else "benchmarks")
+    command = "qdsega bench" + (" --quick" if args.quick else "") + f" --out {out}"
+    print(f"qdsega bench: {len(bench_runs(tasks))} runs -> {out}", flush=True)
+    file, errors = run_bench(tasks, out, jobs=args.jobs, command=command, log=_log)
+    print(f"qdsega bench: {len(errors)} runs failed -> {file}" if errors else f"-> {file}")
+    return 1 if errors else 0
+
+
+def _log(line: str) -> None:
+    print(line, file=sys.stdout, flush=True)
