@@ -4,12 +4,15 @@ PYTHON ?= python3
 VENV := .venv
 BIN := $(VENV)/bin
 
-.PHONY: demo test lint setup
+.PHONY: demo test lint setup bench
 
 $(BIN)/qdsega: pyproject.toml
 	$(PYTHON) -m venv $(VENV)
 	$(BIN)/pip install --quiet --upgrade pip
-	$(BIN)/pip install --quiet -e ".[test,ray]"
+	# torch 2.13.0 (CPU) first, where a file of it is on disk: stable-baselines3 (the bench
+	# extra) would otherwise pull a CUDA build of several GB; elsewhere pip fetches it.
+	$(BIN)/pip install --quiet torch==2.13.0
+	$(BIN)/pip install --quiet -e ".[test,ray,bench]"
 	touch $(BIN)/qdsega
 
 setup: $(BIN)/qdsega
@@ -33,3 +36,7 @@ lint: setup
 
 test: lint
 	$(BIN)/pytest -q -n 2
+
+# BENCHMARKS.md from scratch (about an hour on 2 cores; re-running continues a stopped one).
+bench: setup
+	$(BIN)/qdsega bench --out benchmarks --jobs 2

@@ -16,29 +16,12 @@ from __future__ import annotations
 import argparse
 import math
 import time
-from collections.abc import Callable
 
 from qdsega import ASSEMBLIES_DIR
+from qdsega.bench.throughput import PhysicsStopwatch
 from qdsega.description import load_formation
 from qdsega.locomotion import reference_gaits
 from qdsega.locomotion.env import LocomotionEnv, TaskConfig
-
-
-class PhysicsStopwatch:
-    """Wraps ``BulletSimulation.step``: the physics time and steps it has spent."""
-
-    def __init__(self, step: Callable[[int], None]) -> None:
-        self._step = step
-        self.reset()
-
-    def reset(self) -> None:
-        self.seconds, self.steps = 0.0, 0
-
-    def __call__(self, steps: int = 1) -> None:
-        start = time.perf_counter()
-        self._step(steps)
-        self.seconds += time.perf_counter() - start
-        self.steps += steps
 
 
 def main() -> None:

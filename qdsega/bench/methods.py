@@ -146,7 +146,10 @@ def ga_sequence(task: BenchTask, seed: int, folder: Path) -> Curve:
     population = rng.integers(0, levels, size=(size, steps, len(levels)))
     try:
         while arena.commands < task.budget_steps:
-            played = best.play(list(population[: _within(task, arena, size)]))
+            played: list[Replay] = []
+            while len(played) < size and arena.commands < task.budget_steps:
+                more = population[len(played) : len(played) + _within(task, arena, size)]
+                played += best.play(list(more))
             if len(played) < size:
                 break  # the budget ended within this generation
             scores = np.array([_score(o, steps) for o in played])
@@ -189,7 +192,8 @@ def _tournament(scores: np.ndarray, rng: np.random.Generator) -> int:
 
 
 def cma_cpg(task: BenchTask, seed: int, folder: Path) -> Curve:
-    """CMA-ES over a CPG gait until the budget is spent."""
+    """CMA-ES over a CPG gait, ``budget_steps // trial_steps`` trials in whole iterations
+    (trials that fail early leave steps unspent)."""
     steps = task.rules().trial_steps
     arena = task.arena()
     best = _Best(arena)

@@ -86,3 +86,17 @@ def test_legged12_walks_near_the_optimum_on_a_reduced_budget():
     *_, last = learner.run()
     assert not last.greedy.failed
     assert last.greedy.distance_m >= 0.95 * optimum.distance_m
+
+
+def test_without_reproduction_the_population_stays_as_drawn():
+    """The fixed-set ablation: every generation learns over the first one's postures."""
+    learner, _ = _learner(7, 3, 100)
+    genetic = replace(learner.config.genetic, reproduce=False, elitism=False)
+    learner.config = replace(learner.config, genetic=genetic)
+    drawn = learner.population.copy()
+    generations = list(learner.run())
+    assert np.array_equal(learner.population, drawn)
+    actions = [g.space.actions for g in generations]
+    assert all(np.array_equal(a, actions[0]) for a in actions)
+    # the Q-table is carried over and keeps learning
+    assert not np.array_equal(generations[0].q, generations[-1].q)

@@ -1,0 +1,60 @@
+"""``qdsega bench --quick``: every method through the whole pipeline into --out, and a
+re-run that skips what finished."""
+
+from __future__ import annotations
+
+import argparse
+import importlib.util
+import json
+
+import pytest
+from helpers import run_cli
+
+from qdsega.bench.tasks import QUICK
+from qdsega.commands import bench
+from qdsega.errors import FormationError
+
+pytestmark = pytest.mark.skipif(
+    importlib.util.find_spec("stable_baselines3") is None, reason="needs qdsega[bench]"
+)
+RUNS = sum(len(task.methods) * task.seeds for task in QUICK)
+
+
+@pytest.fixture(scope="module")
+def quick(tmp_path_factory):
+    out = tmp_path_factory.mktemp("bench") / "out"
+    result = run_cli("bench", "--quick", "--out", out, "--jobs", "1")
+    return out, result
+
+
+def test_every_method_runs_on_every_task_and_the_report_shows_it(quick):
+    out, result = quick
+    assert result.returncode == 0, result.stderr
+    report = (out / "BENCHMARKS.md").read_text()
+    sections = {part.split("\n", 1)[0]: part for part in report.split("\n## ")}
+    for task in QUICK:
+        assert (out / "figures" / f"{task.name}.png").stat().st_size > 10_000
+        for method in task.methods:
+            for seed in range(task.seeds):
+                file = out / "results" / task.name / f"{method}-seed{seed}.json"
+                assert json.loads(file.read_text())["steps"][-1] > 0
+            # one row in the budget table, one in the cost table
+            assert sections[task.name].count(f"| {method} |") == 2
+    assert "Throughput on this machine" in sections and "commit " in report
+
+
+def test_a_rerun_skips_every_finished_run(quick):
+    out, _ = quick
+    results = sorted((out / "results").rglob("*.json"))
+    before = {file: file.stat().st_mtime_ns for file in results}
+    again = run_cli("bench", "--quick", "--out", out, "--jobs", "1")
+    assert again.returncode == 0, again.stderr
+    assert f"{RUNS} of {RUNS} runs finished before; running 0" in again.stdout
+    assert {file: file.stat().st_mtime_ns for file in results} == before
+
+
+def test_ppo_without_stable_baselines3_is_refused_with_one_line(monkeypatch):
+    monkeypatch.setattr(importlib.util, "find_spec", lambda name: None)
+    args = argparse.Namespace(quick=True, out=None, jobs=1)
+    with pytest.raises(FormationError, match=r"pip install 'qdsega\[bench\]'"):
+        bench.run(args)
