@@ -107,7 +107,8 @@ def _task_section(
         f"![{task.name} learning curves]({figure.as_posix()})",
         "",
         "Fraction of the yardstick, mean (min-max) over seeds, at fixed budgets (steps); "
-        "a dash where a method's runs stopped before that budget:",
+        "+ marks a budget some of the method's runs ended before (their protocol or step cap "
+        "ended there: their last answer is counted):",
         "",
         "| method | " + " | ".join(_count(b) for b in task.budgets) + " | end of run |",
         "|---|" + "---|" * (len(task.budgets) + 1),
@@ -115,12 +116,9 @@ def _task_section(
     for method, curves in per_method.items():
         cells = []
         for budget in task.budgets:
-            if min(c.steps[-1] for c in curves) < budget:
-                cells.append("-")
-                continue
-            cells.append(
-                _spread(np.array([c.at(np.array([budget]))[0] for c in curves]), yardstick)
-            )
+            mark = " +" if _ended_before(curves, budget) else ""
+            values = np.array([c.at(np.array([budget]))[0] for c in curves])
+            cells.append(_spread(values, yardstick) + mark)
         ends = np.array([c.distance_m[-1] for c in curves])
         spent = np.mean([c.steps[-1] for c in curves])
         cells.append(f"{_spread(ends, yardstick)} at {_count(spent)}")
@@ -149,12 +147,16 @@ def _headline(task: BenchTask, per_method: dict[str, list[Curve]], yardstick: fl
     """Where QDSEGA is ahead or behind the best other method, budget by budget."""
     if "qdsega" not in per_method:
         return []
-    lines = ["Where QDSEGA stands (mean fraction against the best other method's):", ""]
+    lines = [
+        "Where QDSEGA stands (mean fraction against the best other method's, among the methods "
+        "whose runs all reached the budget; QDSEGA counted also where its runs ended before):",
+        "",
+    ]
     for budget in task.budgets:
         means = {
             method: np.mean([c.at(np.array([budget]))[0] for c in curves]) / yardstick
             for method, curves in per_method.items()
-            if min(c.steps[-1] for c in curves) >= budget
+            if method == "qdsega" or not _ended_before(curves, budget)
         }
         if "qdsega" not in means or len(means) < 2:
             continue
@@ -170,6 +172,11 @@ def _headline(task: BenchTask, per_method: dict[str, list[Curve]], yardstick: fl
             f"({verdict})"
         )
     return lines
+
+
+def _ended_before(curves: Sequence[Curve], budget: int) -> bool:
+    """Whether a run ended before ``budget`` steps."""
+    return min(c.steps[-1] for c in curves) < budget
 
 
 def _count(steps: float) -> str:

@@ -172,7 +172,7 @@ FULL = (
         generations=5,
         ppo_steps=50_000,
         methods=("qdsega", "ga-sequence", "random-search", "cma-cpg", "ppo"),
-        budgets=(300, 1000, 3000),
+        budgets=(300, 1000, 2000, 3000),
         forced=(
             "3 seeds, not 5, and 3000 PyBullet steps per run (about 100 s of simulation a run "
             "on one core; the paper's snake protocol takes about 10000). The QDSEGA ablations "
