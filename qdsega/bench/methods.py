@@ -227,3 +227,5 @@ METHODS: dict[str, Method] = {
     "ppo": ppo,
 }
 """Every method, by name."""
+ABLATIONS = ("qdsega-no-carry", "fixed-set")
+"""The methods that are QDSEGA with a part taken out."""
