@@ -23,7 +23,7 @@ RUNS = sum(len(task.methods) * task.seeds for task in QUICK)
 @pytest.fixture(scope="module")
 def quick(tmp_path_factory):
     out = tmp_path_factory.mktemp("bench") / "out"
-    result = run_cli("bench", "--quick", "--out", out, "--jobs", "1")
+    result = run_cli("bench", "--quick", "--out", out, "--jobs", "2")
     return out, result
 
 
@@ -47,7 +47,7 @@ def test_a_rerun_skips_every_finished_run(quick):
     out, _ = quick
     results = sorted((out / "results").rglob("*.json"))
     before = {file: file.stat().st_mtime_ns for file in results}
-    again = run_cli("bench", "--quick", "--out", out, "--jobs", "1")
+    again = run_cli("bench", "--quick", "--out", out, "--jobs", "2")
     assert again.returncode == 0, again.stderr
     assert f"{RUNS} of {RUNS} runs finished before; running 0" in again.stdout
     assert {file: file.stat().st_mtime_ns for file in results} == before
