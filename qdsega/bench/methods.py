@@ -128,7 +128,7 @@ def random_search(task: BenchTask, seed: int, folder: Path) -> Curve:
     batch = max(1, BATCH_STEPS[task.world] // steps)
     try:
         while arena.commands < task.budget_steps:
-            size = (_within(task, arena, batch), steps, len(levels))
+            size = (_within(task, arena, batch, steps), steps, len(levels))
             best.play(list(rng.integers(0, levels, size=size)))
         return best.curve(task.budget_steps)
     finally:
@@ -148,7 +148,7 @@ def ga_sequence(task: BenchTask, seed: int, folder: Path) -> Curve:
         while arena.commands < task.budget_steps:
             played: list[Replay] = []
             while len(played) < size and arena.commands < task.budget_steps:
-                more = population[len(played) : len(played) + _within(task, arena, size)]
+                more = population[len(played) : len(played) + _within(task, arena, size, steps)]
                 played += best.play(list(more))
             if len(played) < size:
                 break  # the budget ended within this generation
@@ -171,11 +171,11 @@ def ga_sequence(task: BenchTask, seed: int, folder: Path) -> Curve:
         arena.close()
 
 
-def _within(task: BenchTask, arena: Arena, trials: int) -> int:
-    """How many of ``trials`` trials to play so that the budget is not overrun by more than
-    one trial."""
+def _within(task: BenchTask, arena: Arena, trials: int, steps: int) -> int:
+    """How many of ``trials`` trials of ``steps`` steps to play so that the budget is not
+    overrun by more than one trial."""
     left = task.budget_steps - arena.commands
-    return max(1, min(trials, -(-left // task.rules().trial_steps)))
+    return max(1, min(trials, -(-left // steps)))
 
 
 def _score(outcome: Replay, steps: int) -> float:
