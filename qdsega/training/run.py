@@ -66,6 +66,7 @@ from qdsega.training.formation_copy import (
     load_run_formation,
     read_formation_record,
 )
+from qdsega.training.interrupt import InterruptWatch
 from qdsega.training.reconfiguration import JointMapping, warm_record, warm_state
 from qdsega.training.run_folder import (
     POLICY_FILE,
@@ -330,26 +331,30 @@ def _run(
         simulated = int(checkpoint.metrics[-1, _SIM_STEPS]) if len(checkpoint.metrics) else 0
         if progress is not None:
             progress.start(completed=resumed_at, generations=config.agent.genetic.generations)
-        try:
-            for generation in learner.run():
-                exact = world.replay(generation, learner)
-                learner.verify(generation, exact)
-                elapsed = first_elapsed + time.perf_counter() - session_start
-                sim_steps = simulated + world.simulated_steps()
-                checkpoint = _advance(
-                    checkpoint, generation, exact, learner, world, sim_steps, elapsed
-                )
-                world.save(out)
-                save_checkpoint(out, checkpoint)
-                _write_metrics(out, checkpoint.metrics)
-                if progress is not None:
-                    progress.generation(
-                        _report(checkpoint, generation, exact, config, session_start, resumed_at)
+        with InterruptWatch() as watch:
+            try:
+                for generation in learner.run():
+                    exact = world.replay(generation, learner)
+                    learner.verify(generation, exact)
+                    elapsed = first_elapsed + time.perf_counter() - session_start
+                    sim_steps = simulated + world.simulated_steps()
+                    checkpoint = _advance(
+                        checkpoint, generation, exact, learner, world, sim_steps, elapsed
                     )
-            return _finish(out, formation, config, world, checkpoint)
-        except KeyboardInterrupt:
-            world.save(out)  # transitions measured since the checkpoint are kept too
-            raise TrainingInterrupted(out, checkpoint.learner.completed) from None
+                    world.save(out)
+                    save_checkpoint(out, checkpoint)
+                    _write_metrics(out, checkpoint.metrics)
+                    if progress is not None:
+                        report = _report(
+                            checkpoint, generation, exact, config, session_start, resumed_at
+                        )
+                        progress.generation(report)
+                return _finish(out, formation, config, world, checkpoint)
+            except BaseException as exc:
+                if not (watch.interrupted or isinstance(exc, KeyboardInterrupt)):
+                    raise
+                world.save(out)  # transitions measured since the checkpoint are kept too
+                raise TrainingInterrupted(out, checkpoint.learner.completed) from None
     finally:
         world.close()
 
