@@ -29,9 +29,11 @@ serves 16 steps (stable-baselines3 spends most of its time building one distribu
 per call); in PyBullet 1, since each environment would measure its own memo table (-)."""
 ROLLOUT_STEPS = {"msm": 2048, "pybullet": 256}
 """Steps per PPO rollout, all environments together: stable-baselines3's default in the MSM;
-shorter in PyBullet, whose budget holds a few thousand steps (-)."""
+shorter in PyBullet, whose budget holds a few thousand steps (-). A task whose ``ppo_steps``
+are fewer has one rollout of that many steps."""
 BATCH = 256
-"""PPO's minibatch (-): 4x stable-baselines3's default of 64, for 4x fewer gradient steps."""
+"""PPO's minibatch (-): 4x stable-baselines3's default of 64, for 4x fewer gradient steps
+(at most one rollout)."""
 
 
 def ppo_curve(task: BenchTask, seed: int) -> Curve:
@@ -76,9 +78,11 @@ def ppo_curve(task: BenchTask, seed: int) -> Curve:
         def _on_step(self) -> bool:
             return spent() < task.budget_steps
 
-    n_steps = ROLLOUT_STEPS[task.world] // len(envs)
+    rollout = min(ROLLOUT_STEPS[task.world], task.ppo_steps)
+    n_steps = max(rollout // len(envs), 2)
+    batch = min(BATCH, n_steps * len(envs))
     model = PPO(
-        "MlpPolicy", vector, n_steps=n_steps, batch_size=BATCH, seed=seed, device="cpu", verbose=0
+        "MlpPolicy", vector, n_steps=n_steps, batch_size=batch, seed=seed, device="cpu", verbose=0
     )
     try:
         model.learn(total_timesteps=task.ppo_steps, callback=Score())

@@ -6,8 +6,6 @@ import argparse
 import time
 from pathlib import Path
 
-from qdsega.assembly import assemble, write_assembly
-from qdsega.description import load_formation, resolve_formation
 from qdsega.errors import FormationError
 
 NAME = "assemble"
@@ -35,6 +33,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    # Imported here: the assembler loads trimesh (about 1 s), which the other commands need not.
+    from qdsega.assembly import assemble, write_assembly
+    from qdsega.description import load_formation, resolve_formation
+
     if args.output is not None and len(args.formations) > 1:
         raise FormationError("-o/--output takes one formation; use --out-dir for several")
     rows = []

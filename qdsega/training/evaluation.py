@@ -47,7 +47,11 @@ from qdsega.locomotion.env_world import EnvWorld
 from qdsega.training.config import TrainingConfig, read_run_config
 from qdsega.training.formation_copy import load_run_formation
 from qdsega.training.reconfiguration import JointMapping
-from qdsega.training.reference_search import DEFAULT_BUDGET_TRIALS, reference_gait
+from qdsega.training.reference_search import (
+    DEFAULT_BUDGET_TRIALS,
+    check_budget,
+    reference_gait,
+)
 from qdsega.training.run_folder import (
     EVALUATION_FILE,
     POLICY_FILE,
@@ -76,6 +80,11 @@ def evaluate_run(
     run = Path(run)
     summary, config, policy = load_run(run)
     formation = load_run_formation(run, config)
+    if reference_trials > 0:
+        try:
+            check_budget(formation, reference_trials)  # before any physics
+        except ValueError as exc:
+            raise FormationError(f"reference search: {exc}") from None
     env = exact_env(formation, config)
     try:
         learned = replay_policy(env, policy)

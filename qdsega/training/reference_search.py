@@ -39,7 +39,6 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-import cma
 import numpy as np
 
 from qdsega.assembly import assemble
@@ -133,12 +132,7 @@ def reference_gait(
     if workers < 1:
         raise ValueError(f"workers must be at least 1, got {workers}")
     lower_agent.step_duration_for(formation)  # refuses a step too short for a joint
-    popsize = _popsize(formation)
-    if budget_trials < popsize:
-        raise ValueError(
-            f"budget_trials must hold at least one CMA-ES generation ({popsize} trials for "
-            f"{formation.name}), got {budget_trials}"
-        )
+    check_budget(formation, budget_trials)
     inputs = _key_inputs(formation, task, lower_agent, physics, budget_trials, seed)
     key = _hash(inputs)
     name = f"{formation.name}-{key[:16]}.json"
@@ -169,6 +163,16 @@ def reference_gait(
     if result.file is not None:
         _write(result, inputs)
     return result
+
+
+def check_budget(formation: Formation, budget_trials: int) -> None:
+    """Raise ValueError unless ``budget_trials`` holds at least one CMA-ES generation."""
+    popsize = _popsize(formation)
+    if budget_trials < popsize:
+        raise ValueError(
+            f"budget_trials must hold at least one CMA-ES generation ({popsize} trials for "
+            f"{formation.name}), got {budget_trials}"
+        )
 
 
 def reference_key(
@@ -394,6 +398,8 @@ def search_cpg(
     ``replay`` (posture sequences (trial_steps, J) -> their outcomes, in order: exact
     physics, or a table world); when CMA-ES stops (every candidate the same gait), it
     restarts from a random point with what is left of the budget."""
+    import cma  # here: it loads scipy.stats (about 0.6 s), which a cached reference needs not
+
     n = len(formation.joints)
     rng = np.random.default_rng(seed)
     steps = trial_steps
