@@ -35,7 +35,7 @@ lint: setup
 	$(BIN)/ruff format --check qdsega tools tests
 
 test: lint
-	$(BIN)/pytest -q -n 2
+	$(BIN)/pytest -q -n 2 --dist worksteal
 
 # BENCHMARKS.md from scratch (about an hour on 2 cores; re-running continues a stopped one).
 bench: setup

@@ -27,8 +27,8 @@ MEMO_BUDGET = """\
 workers: {workers}
 agent:
   learning: {{trials: 60}}
-  genetic: {{population: 8, generations: 4}}
-task: {{trial_steps: 6}}
+  genetic: {{population: 6, generations: 4}}
+task: {{trial_steps: 5}}
 """
 
 
