@@ -1,7 +1,8 @@
 """Random valid formations (chains, trees, legged bodies) read, assemble and load in PyBullet.
 
 The formations come from ``qdsega.description.random_formation``: hypothesis draws the seeds
-here, and ``tools/random_formations.py`` runs the same generator at scale (60 of them below; the tool has run 200 with no failure).
+here, and ``tools/random_formations.py`` runs the same generator at scale
+(60 of them below; the tool has run 200 with no failure).
 """
 
 import subprocess

@@ -1,0 +1,80 @@
+"""Could memo mode measure half the transitions of a left-right symmetric body? A check.
+
+Usage: .venv/bin/python tools/memo_mirror.py [FORMATION] [--postures 10] [--seed 0]
+                                            [--preset memo-legged]
+
+A legged formation mirrored left to right is itself, with its k-th left leg in place of its
+k-th right leg (legs are declared front to back on each side, and every leg's levels mean the
+same on both sides: swing [forward, back], lift [down, up]). If physics were mirror-symmetric
+too, the transition of the mirrored postures would be the mirrored move (the same ``dx``,
+``-dy``, ``-dtheta``, the same failure), and memo mode could measure one of each pair.
+
+Draws ``--postures`` random sources and targets, measures every source -> target transition
+and every mirrored one in PyBullet (the memo table's own measurement), and prints how far
+each mirrored move is from the move it mirrors. A formation without a mirror
+(:attr:`qdsega.description.Formation.mirror`: a snake, unequal sides) is refused. What it
+measured is in the README ("memo mode, mirrored").
+"""
+
+from __future__ import annotations
+
+import argparse
+import time
+
+import numpy as np
+
+from qdsega.description import load_formation, resolve_formation
+from qdsega.locomotion.memo import MeasuredTransitions
+from qdsega.training.config import resolve_config
+
+
+def main() -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("formation", nargs="?", default="legged12")
+    parser.add_argument("--postures", type=int, default=10)
+    parser.add_argument("--seed", type=int, default=0)
+    parser.add_argument("--preset", default="memo-legged")
+    args = parser.parse_args()
+    formation = load_formation(resolve_formation(args.formation))
+    if formation.mirror is None:
+        raise SystemExit(f"{formation.name}: no left-right mirror (see Formation.mirror)")
+    mirror = np.array(formation.mirror)
+    config = resolve_config(preset=args.preset, overrides={"sim": "memo"})
+    levels = np.array([len(joint.levels_rad) for joint in formation.joints])
+    rng = np.random.default_rng(args.seed)
+    sources = rng.integers(0, levels, size=(args.postures, len(levels)))
+    targets = rng.integers(0, levels, size=(args.postures, len(levels)))
+    memo = MeasuredTransitions(
+        formation=formation, lower_agent=config.lower_agent, physics=config.physics, workers=2
+    )
+    start = time.perf_counter()
+    try:
+        plain = memo.transitions(sources, targets)
+        mirrored = memo.transitions(sources[:, mirror], targets[:, mirror])
+    finally:
+        memo.close()
+    wall = time.perf_counter() - start
+    failed = np.stack([plain.failed, mirrored.failed]).ravel().reshape(2, -1)
+    both = ~failed.any(axis=0)
+    pairs = failed.shape[1]
+    print(
+        f"{formation.name}: {2 * pairs} transitions measured in {wall:.1f} s on 2 workers; "
+        f"{failed.mean():.0%} fail"
+    )
+    print(f"failure agrees with the mirror's on {np.mean(failed[0] == failed[1]):.1%} of pairs")
+    print(f"{both.sum()} pairs where neither fails:")
+    print("| field | mean abs (plain) | median abs gap | 90th percentile gap | max gap |")
+    print("|---|---|---|---|---|")
+    for name, sign, unit in (("dx", 1, "m"), ("dy", -1, "m"), ("dtheta", -1, "rad")):
+        a = getattr(plain, name).ravel()[both]
+        b = sign * getattr(mirrored, name).ravel()[both]
+        gap = np.abs(a - b)
+        print(
+            f"| {name} ({unit}) | {np.abs(a).mean():.4f} | {np.median(gap):.4f} | "
+            f"{np.quantile(gap, 0.9):.4f} | {gap.max():.4f} |"
+        )
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
