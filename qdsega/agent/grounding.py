@@ -157,9 +157,12 @@ class GroundedTransitions:
 
     def base_gap_m(self) -> float:
         """Root-mean-square difference between the observed mean forward move and the base's
-        measurement, over the transitions observed to move (m)."""
+        measurement, over the transitions observed to move (m). Summed in key order, not in
+        the order they were observed, so that a resumed run (whose observations come back
+        sorted) gets the same value bit for bit."""
         gaps = []
-        for key, sums in self._plain.items():
+        for key in sorted(self._plain):
+            sums = self._plain[key]
             if sums[3] == 0:
                 continue
             if key not in self._base_dx:
