@@ -91,6 +91,19 @@ def test_state_round_trips_and_refuses_another_body():
         copy.restore(state)
 
 
+def test_a_restored_table_has_the_same_base_gap_bit_for_bit():
+    """Observations come back sorted; the gap must not depend on the order they were seen."""
+    rng = np.random.default_rng(2)  # one of many seeds whose gap differs in insertion order
+    table = GroundedTransitions(base=_Base())
+    for _ in range(30):
+        postures = [int(p) for p in rng.permutation(20)[:8]]
+        moves = 10.0 ** rng.uniform(-4, 0, 8)  # many magnitudes: the sum's order shows
+        table.observe(_trial(postures, [0.0, *np.cumsum(moves)]), P[0])
+    copy = GroundedTransitions(base=_Base())
+    copy.restore(table.state())
+    assert copy.base_gap_m() == table.base_gap_m()
+
+
 def test_in_context_the_latest_move_holds_and_a_trial_start_is_a_context():
     table = GroundedTransitions(base=_Base())
     table.observe(_trial([1, 2], [0.0, 0.1, 0.3]), P[0])
