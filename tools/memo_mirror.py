@@ -1,4 +1,4 @@
-"""Could memo mode measure half the transitions of a left-right symmetric body? A check.
+"""Is PyBullet mirror-symmetric for a left-right symmetric legged body? A check.
 
 Usage: .venv/bin/python tools/memo_mirror.py [FORMATION] [--postures 10] [--seed 0]
                                             [--preset memo-legged]
@@ -7,13 +7,14 @@ A legged formation mirrored left to right is itself, with its k-th left leg in p
 k-th right leg (legs are declared front to back on each side, and every leg's levels mean the
 same on both sides: swing [forward, back], lift [down, up]). If physics were mirror-symmetric
 too, the transition of the mirrored postures would be the mirrored move (the same ``dx``,
-``-dy``, ``-dtheta``, the same failure), and memo mode could measure one of each pair.
+``-dy``, ``-dtheta``, the same failure), and memo mode could measure one of each pair (it does
+not: a QDSEGA population holds hardly any posture's mirror image; README, "Reproducing the
+paper").
 
 Draws ``--postures`` random sources and targets, measures every source -> target transition
 and every mirrored one in PyBullet (the memo table's own measurement), and prints how far
-each mirrored move is from the move it mirrors. A formation without a mirror
-(:attr:`qdsega.description.Formation.mirror`: a snake, unequal sides) is refused. What it
-measured is in the README ("memo mode, mirrored").
+each mirrored move is from the move it mirrors. A formation with joints outside its working
+legs (a snake, a broken leg) or unequal sides is refused.
 """
 
 from __future__ import annotations
@@ -23,9 +24,23 @@ import time
 
 import numpy as np
 
-from qdsega.description import load_formation, resolve_formation
+from qdsega.description import Formation, load_formation, resolve_formation
 from qdsega.locomotion.memo import MeasuredTransitions
 from qdsega.training.config import resolve_config
+
+
+def mirror_permutation(formation: Formation) -> np.ndarray:
+    """Index of each joint's mirror image in the posture vector, shape (J,)."""
+    left, right = formation.legs_on("left"), formation.legs_on("right")
+    names = [joint.name for joint in formation.joints]
+    in_legs = {name for leg in formation.legs for name in (leg.swing_joint, leg.lift_joint)}
+    if not left or len(left) != len(right) or set(names) != in_legs or formation.broken_legs:
+        raise SystemExit(f"{formation.name}: no left-right mirror of its joints")
+    partner: dict[str, str] = {}
+    for a, b in zip(left, right, strict=True):
+        for x, y in ((a.swing_joint, b.swing_joint), (a.lift_joint, b.lift_joint)):
+            partner[x], partner[y] = y, x
+    return np.array([names.index(partner[name]) for name in names])
 
 
 def main() -> int:
@@ -36,9 +51,7 @@ def main() -> int:
     parser.add_argument("--preset", default="memo-legged")
     args = parser.parse_args()
     formation = load_formation(resolve_formation(args.formation))
-    if formation.mirror is None:
-        raise SystemExit(f"{formation.name}: no left-right mirror (see Formation.mirror)")
-    mirror = np.array(formation.mirror)
+    mirror = mirror_permutation(formation)
     config = resolve_config(preset=args.preset, overrides={"sim": "memo"})
     levels = np.array([len(joint.levels_rad) for joint in formation.joints])
     rng = np.random.default_rng(args.seed)

@@ -174,33 +174,6 @@ class Formation:
             if u.is_actuated
         )
 
-    @cached_property
-    def mirror(self) -> tuple[int, ...] | None:
-        """Left-right mirror image of the posture vector: for each joint in :attr:`joints`,
-        the index of its counterpart; None where no mirror follows from the legs.
-
-        The k-th left leg's joints pair with the k-th right leg's (legs are declared front to
-        back per side, and a leg's levels mean the same on either side: swing forward/back,
-        lift down/up), level index for level index. None for a body with joints outside its
-        working legs (a snake, a broken leg), unequal sides, or paired joints with different
-        level counts. Whether the body's geometry is symmetric too is for the formation's
-        author to say (``mirror: true`` in a training configuration).
-        """
-        left, right = self.legs_on("left"), self.legs_on("right")
-        names = [joint.name for joint in self.joints]
-        in_legs = {name for leg in self.legs for name in (leg.swing_joint, leg.lift_joint)}
-        if not left or len(left) != len(right) or set(names) != in_legs or self.broken_legs:
-            return None
-        partner: dict[str, str] = {}
-        for a, b in zip(left, right, strict=True):
-            for x, y in ((a.swing_joint, b.swing_joint), (a.lift_joint, b.lift_joint)):
-                partner[x], partner[y] = y, x
-        image = tuple(names.index(partner[name]) for name in names)
-        levels = [len(joint.levels_rad) for joint in self.joints]
-        if any(levels[k] != levels[m] for k, m in enumerate(image)):
-            return None
-        return image
-
     def joint_index(self, joint_name: str) -> int:
         """Position of ``joint_name`` in :attr:`joints`."""
         names = [j.name for j in self.joints]

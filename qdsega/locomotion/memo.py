@@ -9,12 +9,6 @@ the lower agent failed. Starting from a settled posture, not from wherever the r
 be, is the approximation that makes the table possible; ``qdsega evaluate`` measures its cost
 by replaying policies with exact physics.
 
-With ``mirror`` a left-right symmetric legged body (:attr:`qdsega.description.Formation.mirror`)
-measures one transition of each mirror pair: the other is read as its mirror image (the same
-``dx`` and failure, ``-dy``, ``-dtheta``). Of each pair the one measured is the one whose key
-(source and target level indices) is smaller, so the table does not depend on which was asked
-for first. PyBullet is not exactly symmetric: ``tools/memo_mirror.py`` measures the gap.
-
 Missing transitions are filled on demand, grouped by start posture (one settle, a snapshot,
 then every target from that snapshot) and spread over worker processes. Each worker builds the
 world once; every measurement restores a snapshot, so results do not depend on which worker
@@ -41,7 +35,6 @@ SETTLE_S = 0.5
 """Rest time in the start posture of a transition before the command (s)."""
 
 _FIELDS = 4  # dx, dy, dtheta, failed
-_MIRRORED = np.array([1.0, -1.0, -1.0, 1.0])  # a move's fields in the mirror image
 
 
 class MeasuredTransitions:
@@ -56,10 +49,6 @@ class MeasuredTransitions:
             ``ray`` is given).
         ray: measure on Ray actors instead of processes: ``local`` or a cluster address
             (:mod:`qdsega.ray_pool`); the table is the same bit for bit.
-        mirror: measure one transition of each left-right mirror pair (module docstring).
-
-    Raises:
-        ValueError: bad settings; ``mirror`` for a formation without a mirror.
     """
 
     def __init__(
@@ -71,15 +60,9 @@ class MeasuredTransitions:
         start_levels: tuple[int, ...] | None = None,
         workers: int = 2,
         ray: str | None = None,
-        mirror: bool = False,
     ) -> None:
         if workers < 1:
             raise ValueError(f"workers must be at least 1, got {workers}")
-        if mirror and formation.mirror is None:
-            raise ValueError(
-                f"mirror: {formation.name} has no left-right mirror (it needs as many working "
-                "legs on each side and no other joints); set mirror: false"
-            )
         lower_agent.step_duration_for(formation)  # refuses a step too short for a joint
         self.formation = formation
         self.lower_agent = lower_agent
@@ -87,7 +70,6 @@ class MeasuredTransitions:
         self.workers = workers
         self.ray = ray
         self._start = np.array(start_levels or formation.rest_levels(), dtype=np.int64)
-        self._mirror = np.array(formation.mirror) if mirror else None
         self._table: dict[bytes, np.ndarray] = {}
         self._pool: Pool | None = None
         self._stored: tuple[Path, int] | None = None  # file holding the whole table, its size
@@ -110,7 +92,7 @@ class MeasuredTransitions:
         targets = np.asarray(to_postures, dtype=np.int64)
         self._fill(sources, targets)
         values = np.array(
-            [[self._value(i, j) for j in targets] for i in sources], dtype=np.float64
+            [[self._table[_key(i, j)] for j in targets] for i in sources], dtype=np.float64
         ).reshape(len(sources), len(targets), _FIELDS)
         return Transitions(
             dx=values[..., 0],
@@ -149,44 +131,14 @@ class MeasuredTransitions:
             self._pool.shutdown(cancel_futures=True)
             self._pool = None
 
-    def _value(self, source: np.ndarray, target: np.ndarray) -> np.ndarray:
-        """The fields of ``source -> target``: measured, or (with ``mirror``) the mirror image
-        of its measured mirror."""
-        value = self._table.get(_key(source, target))
-        if value is None and self._mirror is not None:
-            value = self._table[_key(source[self._mirror], target[self._mirror])] * _MIRRORED
-        if value is None:
-            raise KeyError("transition not measured")
-        return value
-
-    def _to_measure(self, source: np.ndarray, target: np.ndarray) -> tuple[bytes, bytes] | None:
-        """Source and target (as bytes) of the transition to measure for ``source -> target``,
-        or None when it or (with ``mirror``) its mirror is known."""
-        key = _key(source, target)
-        if key in self._table:
-            return None
-        if self._mirror is None:
-            return source.tobytes(), target.tobytes()
-        image = _key(source[self._mirror], target[self._mirror])
-        if image in self._table:
-            return None
-        if image < key:
-            return source[self._mirror].tobytes(), target[self._mirror].tobytes()
-        return source.tobytes(), target.tobytes()
-
     def _fill(self, sources: np.ndarray, targets: np.ndarray) -> None:
-        wanted: dict[bytes, set[bytes]] = {}  # source -> targets, each once
+        jobs: list[tuple[np.ndarray, np.ndarray]] = []
         for source in np.unique(sources, axis=0):
-            for target in np.unique(targets, axis=0):
-                pair = self._to_measure(source, target)
-                if pair is not None:
-                    wanted.setdefault(pair[0], set()).add(pair[1])
-        if not wanted:
+            missing = [t for t in np.unique(targets, axis=0) if _key(source, t) not in self._table]
+            if missing:
+                jobs.append((source, np.array(missing)))
+        if not jobs:
             return
-        jobs = [
-            (_levels(source), np.array([_levels(t) for t in sorted(found)]))
-            for source, found in sorted(wanted.items())
-        ]
         args = (self.formation, self.lower_agent, self.physics)
         if self.workers == 1 and self.ray is None:
             _init_worker(*args)
@@ -203,10 +155,6 @@ class MeasuredTransitions:
 
 def _key(source: np.ndarray, target: np.ndarray) -> bytes:
     return np.concatenate([source, target]).astype(np.int64).tobytes()
-
-
-def _levels(posture: bytes) -> np.ndarray:
-    return np.frombuffer(posture, dtype=np.int64).copy()
 
 
 class _Bench:

@@ -80,10 +80,6 @@ class TrainingConfig:
             it found gaits the greedy policy then kept, and the greedy replay stayed within
             10 % of its prediction in 29 of 30 generations; 3.0 found the same gaits but the
             greedy policy strayed more (21 of 30; ``qdsega/agent/README.md``).
-        mirror: memo mode: measure one transition of each left-right mirror pair of a
-            symmetric legged body and read the other as its mirror image (about half the
-            measurements; :mod:`qdsega.locomotion.memo`). PyBullet is not exactly symmetric:
-            the gap is in the README ("Memo mode, mirrored").
     """
 
     preset: str = DEFAULT_PRESET
@@ -100,7 +96,6 @@ class TrainingConfig:
     ground_table: bool = True
     explore_trials: int = 4
     optimism: float = 1.0
-    mirror: bool = False
 
     def __post_init__(self) -> None:
         if self.workers < 1:

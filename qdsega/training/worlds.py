@@ -140,7 +140,7 @@ def check_world(formation: Formation, config: TrainingConfig) -> None:
 
     Raises:
         FormationError: a legless formation in the MSM; a formation the lower agent cannot
-            drive in PyBullet; ``mirror`` for a formation without a mirror.
+            drive in PyBullet.
     """
     if config.sim == "msm":
         LegLayout.from_formation(formation)
@@ -149,12 +149,6 @@ def check_world(formation: Formation, config: TrainingConfig) -> None:
         config.lower_agent.step_duration_for(formation)
     except ValueError as exc:
         raise FormationError(str(exc), file=formation.file) from None
-    if config.sim == "memo" and config.mirror and formation.mirror is None:
-        raise FormationError(
-            "mirror: true needs a left-right symmetric legged body (as many working legs on "
-            "each side, no other joints); set mirror: false",
-            file=formation.file,
-        )
 
 
 def build_world(formation: Formation, config: TrainingConfig, run: Path) -> TrainingWorld:
@@ -185,7 +179,6 @@ def build_world(formation: Formation, config: TrainingConfig, run: Path) -> Trai
         physics=config.physics,
         workers=config.workers,
         ray=config.ray,
-        mirror=config.mirror,
     )
     if (run / MEMO_FILE).is_file():
         memo.load(run / MEMO_FILE)

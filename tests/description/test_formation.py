@@ -3,7 +3,7 @@ import math
 import pytest
 from helpers import SHIPPED_FORMATIONS
 
-from qdsega.description import load_formation, resolve_formation
+from qdsega.description import load_formation
 from qdsega.errors import FormationError
 
 EXPECTED_JOINTS = {
@@ -148,14 +148,3 @@ def test_trunk_is_everything_but_the_legs():
     assert legged.legs[0].units == ("L1_swing", "L1_lift")
     snake = load_formation("assemblies/snake5.yaml")
     assert snake.trunk_units == snake.units
-
-
-def test_the_mirror_pairs_each_left_leg_with_the_right_leg_in_its_place():
-    legged12 = load_formation(resolve_formation("legged12"))
-    names = [joint.name for joint in legged12.joints]
-    image = [names[k] for k in legged12.mirror]
-    assert image[names.index("L1_swing_joint")] == "R1_swing_joint"
-    assert image[names.index("R6_lift_joint")] == "L6_lift_joint"
-    assert [legged12.mirror[k] for k in legged12.mirror] == list(range(len(names)))
-    for name in ("snake5", "hexapod_lost_leg", "legged12_locked_leg", "quadruped_tripod"):
-        assert load_formation(resolve_formation(name)).mirror is None, name

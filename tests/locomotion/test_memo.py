@@ -65,37 +65,3 @@ def test_failures_are_recorded_for_a_legged_body():
         all_up[0, quadruped.joint_index(leg.lift_joint)] = 1
     table = memo.transitions(start, np.vstack([start, all_up]))
     assert list(table.failed[0]) == [False, True]
-
-
-def test_a_mirrored_table_measures_one_of_each_mirror_pair():
-    quadruped = load_formation("assemblies/quadruped.yaml")
-    image = np.array(quadruped.mirror)
-    rng = np.random.default_rng(3)
-    sources, targets = rng.integers(0, 2, size=(2, 3, 8))
-    both_sources = np.concatenate([sources, sources[:, image]])
-    both_targets = np.concatenate([targets, targets[:, image]])
-    plain = MeasuredTransitions(formation=quadruped, lower_agent=LowerAgentConfig(), workers=1)
-    mirrored = MeasuredTransitions(
-        formation=quadruped, lower_agent=LowerAgentConfig(), workers=1, mirror=True
-    )
-    full = plain.transitions(both_sources, both_targets)
-    half = mirrored.transitions(both_sources, both_targets)
-    assert plain.measured == 36 and mirrored.measured == 18
-    # every entry is measured exactly where the mirrored table measured it, its mirror image
-    # elsewhere: the same forward move and failure, the side move and turn negated
-    back = np.concatenate([np.arange(3, 6), np.arange(3)])  # row/column of each mirror
-    for name, sign in (("dx", 1), ("dy", -1), ("dtheta", -1), ("failed", 1)):
-        got = getattr(half, name)
-        assert np.array_equal(got, sign * getattr(half, name)[np.ix_(back, back)]), name
-        measured = getattr(full, name)
-        assert np.sum(got == measured) >= 18, name
-    # the mirrored table's entries are within PyBullet's asymmetry of the full table's
-    ok = ~(full.failed | half.failed)
-    assert np.abs(full.dx[ok] - half.dx[ok]).max() < 0.02
-    assert np.mean(full.failed == half.failed) > 0.9
-
-
-def test_mirror_is_refused_for_a_body_without_one(snake5):
-    assert snake5.mirror is None
-    with pytest.raises(ValueError, match="snake5 has no left-right mirror"):
-        MeasuredTransitions(formation=snake5, lower_agent=LowerAgentConfig(), mirror=True)

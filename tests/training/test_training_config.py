@@ -5,11 +5,9 @@ from __future__ import annotations
 import pytest
 import yaml
 
-from qdsega.description import load_formation, resolve_formation
 from qdsega.errors import FormationError
 from qdsega.training.config import resolve_config
 from qdsega.training.run import budget_overrides
-from qdsega.training.worlds import check_world
 
 
 def test_presets_are_the_papers():
@@ -66,11 +64,3 @@ def test_the_default_preset_follows_the_body_and_the_world():
     assert default_preset(legged, "msm") == "paper-legged"
     assert default_preset(legged, "memo") == default_preset(legged, "pybullet") == "memo-legged"
     assert default_preset(snake, "memo") == "paper-snake"
-
-
-def test_mirror_is_refused_before_anything_runs_for_a_body_without_one():
-    config = resolve_config(preset="paper-snake", overrides={"sim": "memo", "mirror": True})
-    with pytest.raises(FormationError, match="mirror: true needs a left-right symmetric"):
-        check_world(load_formation(resolve_formation("snake5")), config)
-    legged = resolve_config(preset="memo-legged", overrides={"sim": "memo", "mirror": True})
-    check_world(load_formation(resolve_formation("quadruped")), legged)
