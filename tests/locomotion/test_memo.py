@@ -1,3 +1,7 @@
+import subprocess
+import sys
+from pathlib import Path
+
 import numpy as np
 import pytest
 
@@ -65,3 +69,14 @@ def test_failures_are_recorded_for_a_legged_body():
         all_up[0, quadruped.joint_index(leg.lift_joint)] = 1
     table = memo.transitions(start, np.vstack([start, all_up]))
     assert list(table.failed[0]) == [False, True]
+
+
+def test_the_mirror_check_tool_measures_a_legged_body_and_refuses_a_snake():
+    tool = Path(__file__).resolve().parents[2] / "tools" / "memo_mirror.py"
+    run = [sys.executable, tool]
+    result = subprocess.run([*run, "quadruped", "--postures", "3"], capture_output=True, text=True)
+    assert result.returncode == 0, result.stderr
+    assert result.stdout.startswith("quadruped: 18 transitions measured")
+    assert "| dx (m) |" in result.stdout
+    refused = subprocess.run([*run, "snake5"], capture_output=True, text=True)
+    assert refused.returncode == 1 and "no left-right mirror" in refused.stderr
