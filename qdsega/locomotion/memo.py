@@ -164,6 +164,8 @@ class _Bench:
         self, formation: Formation, lower_agent: LowerAgentConfig, physics: PhysicsSettings
     ) -> None:
         self.formation = formation
+        self.lower_agent = lower_agent
+        self.physics = physics
         self.sim = BulletSimulation(robot=assemble(formation), settings=physics)
         self.agent = LowerAgent(sim=self.sim, config=lower_agent)
         self.pristine = self.sim.save_state()
@@ -178,7 +180,14 @@ def _init_worker(
     formation: Formation, lower_agent: LowerAgentConfig, physics: PhysicsSettings
 ) -> None:
     global _bench
-    if _bench is None or _bench.formation is not formation:
+    if (
+        _bench is None
+        or _bench.formation is not formation
+        or _bench.lower_agent != lower_agent
+        or _bench.physics != physics
+    ):
+        if _bench is not None:
+            _bench.sim.close()
         _bench = _Bench(formation, lower_agent, physics)
 
 

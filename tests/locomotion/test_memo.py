@@ -8,6 +8,7 @@ import pytest
 from qdsega.description import load_formation
 from qdsega.locomotion.lower_agent import LowerAgentConfig
 from qdsega.locomotion.memo import MeasuredTransitions
+from qdsega.simulation.settings import PhysicsSettings
 
 
 @pytest.fixture(scope="module")
@@ -80,3 +81,30 @@ def test_the_mirror_check_tool_measures_a_legged_body_and_refuses_a_snake():
     assert "| dx (m) |" in result.stdout
     refused = subprocess.run([*run, "snake5"], capture_output=True, text=True)
     assert refused.returncode == 1 and "no left-right mirror" in refused.stderr
+
+
+def test_a_table_in_the_same_process_measures_with_its_own_physics(snake5):
+    """One process, one formation object, two physics settings: each table measures with its
+    own (the worker's simulation is rebuilt, not reused for the wrong settings)."""
+    postures = _postures(2)
+    coarse = PhysicsSettings(time_step_s=1 / 120, solver_iterations=10)
+    tables = []
+    for physics in (PhysicsSettings(), coarse, PhysicsSettings()):
+        memo = MeasuredTransitions(
+            formation=snake5, lower_agent=LowerAgentConfig(), physics=physics, workers=1
+        )
+        tables.append(memo.transitions(postures, postures).dx)
+    assert not np.array_equal(tables[0], tables[1])
+    assert np.array_equal(tables[0], tables[2])
+
+
+def test_the_physics_curve_tool_prints_a_row_per_setting():
+    tool = Path(__file__).resolve().parents[2] / "tools" / "physics_curve.py"
+    run = [sys.executable, tool, "quadruped", "--postures", "2", "--settings", "240:50,120:10"]
+    result = subprocess.run(run, capture_output=True, text=True)
+    assert result.returncode == 0, result.stderr
+    rows = [line for line in result.stdout.splitlines() if line[2:3].isdigit()]
+    assert [row.split(" |")[0] for row in rows] == ["| 240 : 50", "| 120 : 10"]
+    assert rows[0].split("|")[3].strip() == "100.0%"  # the reference agrees with itself
+    bad = subprocess.run([*run[:2], "--settings", "fast"], capture_output=True, text=True)
+    assert bad.returncode == 1 and "not HZ:ITERATIONS" in bad.stderr
