@@ -33,9 +33,12 @@ def parse_settings(text: str) -> list[tuple[float, int]]:
     for item in text.split(","):
         hz, _, iterations = item.partition(":")
         try:
-            settings.append((float(hz), int(iterations)))
+            rate, count = float(hz), int(iterations)
         except ValueError:
             raise SystemExit(f"--settings: {item!r} is not HZ:ITERATIONS") from None
+        if not rate > 0 or count < 1:
+            raise SystemExit(f"--settings: {item!r} needs HZ > 0 and ITERATIONS >= 1")
+        settings.append((rate, count))
     return settings
 
 

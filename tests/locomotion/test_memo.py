@@ -108,3 +108,7 @@ def test_the_physics_curve_tool_prints_a_row_per_setting():
     assert rows[0].split("|")[3].strip() == "100.0%"  # the reference agrees with itself
     bad = subprocess.run([*run[:2], "--settings", "fast"], capture_output=True, text=True)
     assert bad.returncode == 1 and "not HZ:ITERATIONS" in bad.stderr
+    zero = subprocess.run([*run[:2], "--settings", "0:50"], capture_output=True, text=True)
+    assert zero.returncode == 1 and zero.stderr.strip().splitlines() == [
+        "--settings: '0:50' needs HZ > 0 and ITERATIONS >= 1"
+    ]
