@@ -24,7 +24,7 @@ import math
 import numpy as np
 from numba import njit
 
-from qdsega.agent.boltzmann import boltzmann_select_below, temperature
+from qdsega.agent.boltzmann import boltzmann_select_fast, temperature
 from qdsega.task import exterior_state, move_pose, step_reward
 
 
@@ -35,21 +35,48 @@ def q_update(q: float, reward: float, best_next: float, alpha: float, gamma: flo
 
 
 @njit(cache=True)
-def _row_max(row: np.ndarray) -> float:
-    top = row[0]
-    for value in row[1:]:
-        if value > top:
-            top = value
-    return top
+def _scan_row(row: np.ndarray, s: int, stats: np.ndarray, arg: np.ndarray) -> None:
+    """Row ``s``'s statistics from scratch: ``stats[s] = (max, max over the other actions,
+    1.0 = valid)`` and ``arg[s]`` the first action with the max (ties: the second max is the
+    max)."""
+    best = 0
+    for a in range(1, row.shape[0]):
+        if row[a] > row[best]:
+            best = a
+    second = -math.inf
+    for a in range(row.shape[0]):
+        if a != best and row[a] > second:
+            second = row[a]
+    stats[s, 0], stats[s, 1], stats[s, 2] = row[best], second, 1.0
+    arg[s] = best
 
 
 @njit(cache=True)
-def _update_top(q: np.ndarray, s: int, old: float, new: float, row_top: np.ndarray) -> None:
-    """Keep ``row_top[s]`` = max Q(s, .) after one entry of row ``s`` went from old to new."""
-    if new >= row_top[s]:
-        row_top[s] = new
-    elif old >= row_top[s]:
-        row_top[s] = _row_max(q[s])
+def _row_top(q: np.ndarray, s: int, stats: np.ndarray, arg: np.ndarray) -> float:
+    """max Q(s, .), rescanning row ``s`` where an update left its statistics stale."""
+    if stats[s, 2] == 0.0:
+        _scan_row(q[s], s, stats, arg)
+    return stats[s, 0]
+
+
+@njit(cache=True)
+def _update_stats(
+    s: int, a: int, old: float, new: float, stats: np.ndarray, arg: np.ndarray
+) -> None:
+    """Keep row ``s``'s statistics after Q(s, a) went from ``old`` to ``new`` (valid ones)."""
+    top, second = stats[s, 0], stats[s, 1]
+    if a == arg[s]:
+        if new >= second:
+            stats[s, 0] = new
+        else:
+            stats[s, 2] = 0.0
+    elif new > top:
+        stats[s, 0], stats[s, 1] = new, top
+        arg[s] = a
+    elif new >= second:
+        stats[s, 1] = new
+    elif old >= second:
+        stats[s, 2] = 0.0
 
 
 @njit(cache=True)
@@ -115,10 +142,12 @@ def learn_on_table(
     n_exterior = edges.shape[0]
     n_interior = dx.shape[0]
     weights = np.empty(q.shape[1])
-    # max_a Q(s, a) of every row, kept up to date (eq. 1's max and the roulette's shift).
-    row_top = np.empty(q.shape[0])
-    for s in range(q.shape[0]):
-        row_top[s] = _row_max(q[s])
+    bits = np.empty(q.shape[1], dtype=np.int64)
+    # Per row: max Q, max Q over the other actions, valid flag; and the best action (eq. 1's
+    # max, the roulette's shift and its greedy shortcut), rescanned only when an update may
+    # have lowered them.
+    stats = np.zeros((q.shape[0], 3))
+    arg = np.zeros(q.shape[0], dtype=np.int64)
     light_x, light_y = light[0], light[1]
     d_start = math.hypot(light_x, light_y)
     steps = 0
@@ -133,7 +162,10 @@ def learn_on_table(
         fell[trial] = False
         for _ in range(trial_steps):
             s = interior * n_exterior + exterior
-            a = boltzmann_select_below(q[s], row_top[s], temp, rng.random(), weights)
+            top = _row_top(q, s, stats, arg)
+            a = boltzmann_select_fast(
+                q[s], top, stats[s, 1], arg[s], temp, rng.random(), weights, bits
+            )
             uses[a] += 1
             steps += 1
             old = q[s, a]
@@ -151,16 +183,16 @@ def learn_on_table(
                     mx, my, mt = context_dx[r, a], context_dy[r, a], context_dtheta[r, a]
             if fails:
                 q[s, a] = (1.0 - alpha) * old + alpha * penalty
-                _update_top(q, s, old, q[s, a], row_top)
+                _update_stats(s, a, old, q[s, a], stats, arg)
                 fell[trial] = True
                 break
             x, y, theta = move_pose(x, y, theta, mx, my, mt)
             d_new = math.hypot(light_x - x, light_y - y)
             previous, interior = interior, next_interior[a]
             exterior = exterior_state(x, y, theta, light_x, light_y, edges)
-            best_next = row_top[interior * n_exterior + exterior]
+            best_next = _row_top(q, interior * n_exterior + exterior, stats, arg)
             q[s, a] = q_update(old, step_reward(d, d_new, reward_per_m), best_next, alpha, gamma)
-            _update_top(q, s, old, q[s, a], row_top)
+            _update_stats(s, a, old, q[s, a], stats, arg)
             d = d_new
         distances[trial] = d_start - d
     return steps

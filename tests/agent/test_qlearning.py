@@ -7,7 +7,13 @@ import math
 import numpy as np
 import pytest
 
-from qdsega.agent.boltzmann import boltzmann_select, greedy, temperature
+from qdsega.agent.boltzmann import (
+    boltzmann_select,
+    boltzmann_select_below,
+    boltzmann_select_fast,
+    greedy,
+    temperature,
+)
 from qdsega.agent.qlearning import learn_on_table, q_update
 from qdsega.agent.world import Transitions
 from qdsega.task import exterior_state
@@ -42,6 +48,36 @@ def test_boltzmann_matches_the_distribution_and_becomes_greedy():
     assert greedy(np.array([3.0, 3.0])) == 0  # ties: first
 
 
+def _fast_and_exact(row: np.ndarray, temp: float, u: float) -> tuple[int, int]:
+    top = row.max()
+    best = int(row.argmax())
+    second = np.delete(row, best).max(initial=-np.inf)
+    w, bits = np.empty(len(row)), np.empty(len(row), dtype=np.int64)
+    fast = boltzmann_select_fast(row, top, second, best, temp, u, w, bits)
+    return fast, boltzmann_select_below(row, top, temp, u, w)
+
+
+def test_fast_roulette_picks_the_exact_roulettes_action():
+    """Same row, temperature and pointer: the same action, from near-uniform (T = 1e4) to
+    greedy (T = 1e-9), with untried actions (Q = 0), ties, a single action, and pointers on
+    the edge of a share (two equal weights, u = 0.5), at 0 and just below 1."""
+    gen = np.random.default_rng(0)
+    cases = 0
+    for temp in (1e4, 30.0, 1.0, 0.05, 1e-3, 1e-9):
+        for n in (1, 2, 7, 80):
+            for _ in range(60):
+                row = gen.normal(0.0, 20.0, n)
+                row[gen.random(n) < 0.3] = 0.0
+                if n > 2 and gen.random() < 0.3:
+                    row[1] = row.max()  # a tie at the top
+                for u in (gen.random(), 0.0, 0.5, 1.0 - 2.0**-53):
+                    fast, exact = _fast_and_exact(row, temp, u)
+                    assert fast == exact, (temp, row.tolist(), u)
+                    cases += 1
+    assert cases == 6 * 4 * 60 * 4
+    assert _fast_and_exact(np.array([2.0, 2.0]), 1.0, 0.5) == (1, 1)
+
+
 def test_compiled_loop_learns_a_two_action_chain():
     # One interior state besides the start; action 0 moves 1 m forward, action 1 falls.
     dx = np.array([[1.0, 0.0], [1.0, 0.0]])
@@ -63,11 +99,11 @@ def test_compiled_loop_learns_a_two_action_chain():
     assert np.all(distances[fell] < 3.0)
 
 
-def _reference_loop(q, dx, dtheta, failed, next_interior, light, edges, trials, steps, rng):
+def _reference_loop(q, dx, dtheta, failed, next_interior, light, edges, trials, steps, rate, rng):
     """Plain Python: eq. (1) on every step, the row maximum recomputed every time."""
     weights = np.empty(q.shape[1])
     for trial in range(trials):
-        temp = temperature(trial, 150.0, 0.002, 1.0)
+        temp = temperature(trial, 150.0, rate, 1.0)
         x = y = theta = 0.0
         d = math.hypot(*light)
         interior, exterior = 0, exterior_state(0.0, 0.0, 0.0, *light, edges)
@@ -88,9 +124,11 @@ def _reference_loop(q, dx, dtheta, failed, next_interior, light, edges, trials, 
             d = d_new
 
 
-def test_compiled_loop_equals_a_plain_reference():
-    """The compiled loop keeps each row's maximum up to date instead of rescanning the row:
-    the same Q-table, draw for draw, as recomputing it every step (turns and falls too)."""
+@pytest.mark.parametrize("rate", [0.002, 0.05])
+def test_compiled_loop_equals_a_plain_reference(rate: float):
+    """The compiled loop keeps each row's maximum up to date instead of rescanning the row,
+    and takes the fast roulette: the same Q-table, draw for draw, as recomputing it every step
+    (turns and falls too), at eq. (18)'s rate and at one that cools to greedy (T ~ 1e-6)."""
     gen = np.random.default_rng(5)
     n_interior, n_actions = 6, 5
     dx = gen.uniform(-0.05, 0.1, (n_interior, n_actions))
@@ -100,14 +138,14 @@ def test_compiled_loop_equals_a_plain_reference():
     light, edges = np.array([3.0, 1.0]), EDGES
     start = gen.normal(0.0, 5.0, (n_interior * 4, n_actions))  # a carried-over table
     q_ref = start.copy()
-    _reference_loop(q_ref, dx, dtheta, failed, next_interior, light, edges, 400, 8,
+    _reference_loop(q_ref, dx, dtheta, failed, next_interior, light, edges, 400, 8, rate,
                     np.random.default_rng(3))  # fmt: skip
     q = start.copy()
     uses = np.zeros(n_actions, dtype=np.int64)
     distances, fell = np.zeros(400), np.zeros(400, dtype=np.bool_)
     learn_on_table(
         q, *Transitions(dx=dx, dy=np.zeros_like(dx), dtheta=dtheta, failed=failed).compiled(),
-        next_interior, light, edges, 400, 8, 0.5, 0.9, np.array([150.0, 0.002, 1.0]), 100.0,
+        next_interior, light, edges, 400, 8, 0.5, 0.9, np.array([150.0, rate, 1.0]), 100.0,
         -100.0, np.random.default_rng(3), uses, distances, fell,
     )  # fmt: skip
     assert fell.any() and not fell.all()
