@@ -87,6 +87,33 @@ def mutate(
     return np.where(hit, (population + shift) % levels, population)
 
 
+def vary_gait(commands: np.ndarray, levels: np.ndarray, rng: np.random.Generator) -> np.ndarray:
+    """A neighbour of a gait: ``commands`` (k, J) with one character of one of its postures
+    moved by 1 or 2 levels (within the joint's range) wherever that posture occurs, so that a
+    cycle stays a cycle.
+
+    Raises:
+        ValueError: no joint has more than one level.
+    """
+    commands = np.array(commands, dtype=np.int64)
+    levels = np.asarray(levels, dtype=np.int64)
+    joints = np.flatnonzero(levels > 1)
+    if len(joints) == 0:
+        raise ValueError("no joint has more than one level to vary")
+    distinct = np.unique(commands, axis=0)
+    posture = distinct[rng.integers(len(distinct))]
+    j = int(joints[rng.integers(len(joints))])
+    step = int(rng.choice([-2, -1, 1, 2]))
+    level = posture[j] + step
+    if not 0 <= level < levels[j]:
+        level = posture[j] - step
+    level = int(np.clip(level, 0, levels[j] - 1))
+    if level == posture[j]:  # a two-level joint stepped by 2
+        level = 1 - posture[j]
+    commands[np.all(commands == posture, axis=1), j] = level
+    return commands
+
+
 def with_elite(population: np.ndarray, elite: np.ndarray) -> np.ndarray:
     """``population`` (N, J) with every posture of ``elite`` (k, J), k <= N // 2, present.
 

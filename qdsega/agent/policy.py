@@ -118,6 +118,29 @@ class BoltzmannPolicy:
         return int(boltzmann_select(row, self.temperature, self.rng.random(), self._weights))
 
 
+class SequencePolicy:
+    """Command a fixed posture sequence in turn, whatever the state (an open-loop gait).
+
+    Args:
+        commands: the postures (level indices) to command, in order, shape (k, J), started
+            again from the first after the last. A policy plays one trial: make one per trial.
+    """
+
+    def __init__(self, *, commands: np.ndarray) -> None:
+        commands = np.asarray(commands, dtype=np.int64)
+        if commands.ndim != 2 or len(commands) == 0:
+            raise ValueError(f"commands must be (k >= 1, J), got {commands.shape}")
+        self.actions, order = np.unique(commands, axis=0, return_inverse=True)
+        self._order = order.reshape(-1)
+        self.next_interior = np.zeros(len(self.actions), dtype=np.int64)  # no states: unused
+        self._sent = 0
+
+    def act(self, interior: int, exterior: int) -> int:
+        a = int(self._order[self._sent % len(self._order)])
+        self._sent += 1
+        return a
+
+
 @dataclass(frozen=True)
 class Rollout:
     """One trial of a policy.

@@ -80,6 +80,9 @@ class TrainingConfig:
             it found gaits the greedy policy then kept, and the greedy replay stayed within
             10 % of its prediction in 29 of 30 generations; 3.0 found the same gaits but the
             greedy policy strayed more (21 of 30; ``qdsega/agent/README.md``).
+        local_search: memo mode: neighbours of the best exact trial so far replayed with
+            exact physics each generation, the best one's postures kept in the population
+            (:class:`qdsega.training.worlds.TrainingWorld`); 0 for none.
     """
 
     preset: str = DEFAULT_PRESET
@@ -96,12 +99,15 @@ class TrainingConfig:
     ground_table: bool = True
     explore_trials: int = 4
     optimism: float = 1.0
+    local_search: int = 0
 
     def __post_init__(self) -> None:
         if self.workers < 1:
             raise ValueError(f"workers must be at least 1, got {self.workers}")
         if self.explore_trials < 0:
             raise ValueError(f"explore_trials must not be negative, got {self.explore_trials}")
+        if self.local_search < 0:
+            raise ValueError(f"local_search must not be negative, got {self.local_search}")
         if not (self.optimism >= 0 and math.isfinite(self.optimism)):
             raise ValueError(f"optimism must not be negative, got {self.optimism}")
 

@@ -334,8 +334,10 @@ def _run(
         with InterruptWatch() as watch:
             try:
                 for generation in learner.run():
-                    exact = world.replay(generation, learner)
-                    learner.verify(generation, exact)
+                    trials = world.replay(generation, learner)
+                    exact = trials[0]  # the greedy replay
+                    for trial in trials:
+                        learner.verify(generation, trial)
                     elapsed = first_elapsed + time.perf_counter() - session_start
                     sim_steps = simulated + world.simulated_steps()
                     checkpoint = _advance(

@@ -14,16 +14,17 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING
 
 import numpy as np
 
 from qdsega.agent.boltzmann import temperature
+from qdsega.agent.genetic import vary_gait
 from qdsega.agent.grounding import GroundedTransitions
 from qdsega.agent.learner import QDSEGA, Generation
-from qdsega.agent.policy import BoltzmannPolicy, Policy, Rollout
+from qdsega.agent.policy import BoltzmannPolicy, Policy, Rollout, SequencePolicy
 from qdsega.agent.world import TransitionProvider, World
 from qdsega.description import Formation
 from qdsega.errors import FormationError
@@ -38,6 +39,9 @@ if TYPE_CHECKING:
 
 MEMO_FILE = "transitions.npz"
 """The memo table in a run folder."""
+_SEARCH_STREAM = 1_000_000
+"""Local-search trials of generation ``g`` draw from a generator seeded ``(seed, g, this)``,
+a stream no exploring trial uses."""
 
 
 @dataclass
@@ -57,6 +61,9 @@ class TrainingWorld:
             greedy one (memo mode), and the Boltzmann temperature they draw actions at.
         optimism: with a grounded table, the upper confidence bound (in RMS gaps) of one more
             exploring trial, the greedy policy learnt on that bound; 0 for none.
+        local_search: memo mode: neighbours of the best exact trial so far (one character of
+            one of its postures varied, :func:`qdsega.agent.genetic.vary_gait`) replayed with
+            exact physics each generation and offered to the learner's elite; 0 for none.
         seed: the run's seed; exploring trial ``k`` of generation ``g`` draws from a generator
             seeded ``(seed, g, k)``, so a resumed run draws the same, whichever worker runs it.
         optimum: the exact optimum where one is known (the MSM), else None.
@@ -71,15 +78,20 @@ class TrainingWorld:
     layout: LegLayout | None
     explore: tuple[int, float] = (0, 1.0)
     optimism: float = 0.0
+    local_search: int = 0
     seed: int = 0
+    _best: tuple[np.ndarray, float] | None = field(default=None, init=False, repr=False)
+    """The commands (k, J) and distance (m) of the best local-search parent so far."""
 
-    def replay(self, generation: Generation, learner: QDSEGA) -> Rollout:
+    def replay(self, generation: Generation, learner: QDSEGA) -> list[Rollout]:
         """The generation's greedy policy replayed with exact physics (its own greedy trial
-        where the learner's world is exact). A grounded table learns its moves, and those of
-        ``explore`` trials of the generation's policy at the Boltzmann temperature and, with
-        ``optimism``, of the greedy policy ``learner`` learns on the table's upper bound."""
+        where the learner's world is exact), then ``local_search`` neighbours of the best
+        exact trial so far (:meth:`_search`): the trials the learner may verify. A grounded
+        table learns their moves, and those of ``explore`` trials of the generation's policy
+        at the Boltzmann temperature and, with ``optimism``, of the greedy policy ``learner``
+        learns on the table's upper bound; the greedy replay is observed last."""
         if self.exact is None:
-            return generation.greedy
+            return [generation.greedy]
         policies: list[Policy] = [generation.policy]
         if self.grounded is not None:  # exploring trials first: the greedy one is seen last
             trials, temperature = self.explore
@@ -99,10 +111,34 @@ class TrainingWorld:
                 for k in range(trials)
             ] + policies
         outcomes = self.exact.rollouts(policies, steps=self.task.trial_steps)
+        greedy = outcomes[-1]
+        searched = self._search(generation.index, learner.levels, greedy)
         if self.grounded is not None:
-            for trial in outcomes:
+            for trial in [*outcomes[:-1], *searched, greedy]:
                 self.grounded.observe(trial, generation.space.postures[0])
-        return outcomes[-1]
+        return [greedy, *searched]
+
+    def _search(self, index: int, levels: np.ndarray, greedy: Rollout) -> list[Rollout]:
+        """A (1 + ``local_search``) evolution strategy in exact physics: the parent is the best
+        trial so far among greedy replays and earlier neighbours; its neighbours are replayed
+        open loop (:class:`qdsega.agent.policy.SequencePolicy`)."""
+        if self.local_search == 0 or self.exact is None:
+            return []
+        self._keep_best(greedy)
+        assert self._best is not None
+        rng = np.random.default_rng([self.seed, index, _SEARCH_STREAM])
+        neighbours = [
+            SequencePolicy(commands=vary_gait(self._best[0], levels, rng))
+            for _ in range(self.local_search)
+        ]
+        trials = self.exact.rollouts(neighbours, steps=self.task.trial_steps)
+        for trial in trials:
+            self._keep_best(trial)
+        return trials
+
+    def _keep_best(self, trial: Rollout) -> None:
+        if self._best is None or trial.distance_m > self._best[1]:
+            self._best = (trial.postures.copy(), trial.distance_m)
 
     def simulated_steps(self) -> int:
         """Upper-agent steps simulated in PyBullet by this world so far: memo transitions
@@ -113,13 +149,23 @@ class TrainingWorld:
         return sum(getattr(world, name, 0) for world, name in counters)
 
     def state(self) -> dict[str, np.ndarray]:
-        """What the run's history put into the world (grounded observations), as arrays."""
-        return {} if self.grounded is None else self.grounded.state()
+        """What the run's history put into the world (grounded observations; the local
+        search's parent: ``search_commands`` (k, J) and ``search_distance_m`` (1,)), as
+        arrays."""
+        state = {} if self.grounded is None else self.grounded.state()
+        if self._best is not None:
+            state["search_commands"] = self._best[0]
+            state["search_distance_m"] = np.array([self._best[1]])
+        return state
 
     def restore(self, state: dict[str, np.ndarray]) -> None:
         """Return to :meth:`state`."""
         if self.grounded is not None and state:
             self.grounded.restore(state)
+        self._best = None
+        if "search_commands" in state:
+            commands = state["search_commands"].astype(np.int64)
+            self._best = (commands, float(state["search_distance_m"][0]))
 
     def save(self, run: Path) -> None:
         """Keep what the world measured (memo mode) in the run folder."""
@@ -207,6 +253,7 @@ def build_world(formation: Formation, config: TrainingConfig, run: Path) -> Trai
         layout,
         explore=(config.explore_trials, last),
         optimism=config.optimism,
+        local_search=config.local_search,
         seed=config.seed,
     )
 

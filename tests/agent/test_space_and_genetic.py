@@ -14,6 +14,7 @@ from qdsega.agent.genetic import (
     roulette,
     roulette_weights,
     uniform_crossover,
+    vary_gait,
 )
 from qdsega.agent.space import ExplorationSpace
 
@@ -85,3 +86,24 @@ def test_roulette_over_actions_or_individuals():
     assert np.mean(picks == 1) == pytest.approx(2 / 3, abs=0.01)
     with pytest.raises(ValueError, match="selection"):
         roulette_weights(fit, action_of, "genes")
+
+
+def test_a_varied_gait_changes_one_character_of_one_posture_wherever_it_occurs():
+    levels = np.array([9, 2, 1, 9])
+    cycle = np.array([[0, 0, 0, 8], [4, 1, 0, 4], [8, 0, 0, 0]])
+    gait = cycle[[0, 1, 2, 1, 0, 1, 2, 1]]
+    rng = np.random.default_rng(0)
+    changed_joints = set()
+    for _ in range(200):
+        varied = vary_gait(gait, levels, rng)
+        diff = varied != gait
+        rows, joints = np.nonzero(diff)
+        assert len(set(joints)) == 1 and joints[0] != 2  # one joint, never the one-level one
+        assert len({gait[r].tobytes() for r in rows}) == 1  # one posture ...
+        assert np.all(np.all(gait == gait[rows[0]], axis=1) == diff.any(axis=1))  # ... everywhere
+        step = abs(int(varied[rows[0], joints[0]]) - int(gait[rows[0], joints[0]]))
+        assert 1 <= step <= 2 and np.all((varied >= 0) & (varied < levels))
+        changed_joints.add(int(joints[0]))
+    assert changed_joints == {0, 1, 3}
+    with pytest.raises(ValueError, match="no joint has more than one level"):
+        vary_gait(gait[:, 2:3], levels[2:3], rng)

@@ -25,6 +25,7 @@ from qdsega import ASSEMBLIES_DIR
 
 MEMO_BUDGET = """\
 workers: {workers}
+local_search: 2
 agent:
   learning: {{trials: 60}}
   genetic: {{population: 6, generations: 4}}

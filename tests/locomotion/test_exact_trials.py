@@ -1,9 +1,9 @@
 """Exact trials in batches: the same outcomes in this process and spread over workers, in the
-order given, and every command counted."""
+order given, and every command counted; an open-loop policy walks as its replayed sequence."""
 
 import numpy as np
 
-from qdsega.agent.policy import BoltzmannPolicy, GreedyPolicy
+from qdsega.agent.policy import BoltzmannPolicy, GreedyPolicy, SequencePolicy
 from qdsega.description import load_formation, resolve_formation
 from qdsega.locomotion.exact_trials import ExactTrials
 from qdsega.locomotion.lower_agent import LowerAgentConfig
@@ -26,7 +26,7 @@ def test_trials_in_workers_equal_trials_here_in_order():
         policies = [
             BoltzmannPolicy(greedy=greedy, temperature=0.5, rng=np.random.default_rng(k))
             for k in range(3)
-        ] + [greedy]  # new generators each time: a trial here draws from the one given
+        ] + [greedy, SequencePolicy(commands=sequences[0])]  # new generators, policies each time
         with ExactTrials(
             formation=formation,
             task=TaskConfig(trial_steps=5),
@@ -44,4 +44,6 @@ def test_trials_in_workers_equal_trials_here_in_order():
     for a, b in zip(here, there, strict=True):
         assert np.array_equal(a.postures, b.postures) and np.array_equal(a.poses, b.poses)
     assert here_replays == there_replays
+    assert here[-1].distance_m == here_replays[0].distance_m  # the same sequence, two ways
+    assert np.array_equal(here[-1].postures, sequences[0])
     assert len({r.distance_m for r in here}) > 1  # the exploring trials differ

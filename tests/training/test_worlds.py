@@ -1,0 +1,77 @@
+"""The training world's local search: a (1 + lambda) strategy over open-loop gaits that keeps
+the best exact trial as its parent, draws the same on a resumed run, and hands its trials to
+the learner."""
+
+from __future__ import annotations
+
+from types import SimpleNamespace
+
+import numpy as np
+
+from qdsega.agent.policy import Policy, Rollout, SequencePolicy
+from qdsega.task import Task, TaskConfig
+from qdsega.training.worlds import TrainingWorld
+
+LEVELS = np.array([9, 9, 9])
+
+
+class _ScoredTrials:
+    """Stands in for exact physics: a trial covers 0.1 m per level of joint 0, on average over
+    its commands."""
+
+    def __init__(self) -> None:
+        self.trials = 0
+
+    def rollouts(self, policies: list[Policy], *, steps: int) -> list[Rollout]:
+        out = []
+        for policy in policies:
+            commands = np.array([policy.actions[policy.act(0, 0)] for _ in range(steps)])
+            distance = 0.1 * float(commands[:, 0].mean())
+            poses = np.zeros((steps + 1, 3))
+            out.append(Rollout(np.zeros(steps, dtype=np.int64), commands, poses, False, distance))
+        self.trials += len(policies)
+        return out
+
+
+def _world(local_search: int) -> TrainingWorld:
+    task = Task(config=TaskConfig(trial_steps=6), light_xy=(10.0, 0.0))
+    world = TrainingWorld(
+        provider=None, exact=None, grounded=None, task=task, optimum=None, layout=None
+    )  # type: ignore[arg-type]
+    world.exact = _ScoredTrials()  # type: ignore[assignment]
+    world.local_search, world.seed = local_search, 7
+    return world
+
+
+def _generation(index: int) -> SimpleNamespace:
+    start_gait = np.array([[2, 0, 8], [3, 8, 0]])
+    return SimpleNamespace(index=index, policy=SequencePolicy(commands=start_gait))
+
+
+def _climb(world: TrainingWorld, generations: range) -> list[list[Rollout]]:
+    learner = SimpleNamespace(levels=LEVELS)
+    return [world.replay(_generation(g), learner) for g in generations]  # type: ignore[arg-type]
+
+
+def test_the_local_search_climbs_from_the_best_trial_and_resumes_to_the_same_draws():
+    world = _world(local_search=4)
+    replays = _climb(world, range(1, 13))
+    assert all(len(trials) == 5 for trials in replays)  # the greedy replay first, 4 neighbours
+    assert world.exact.trials == 12 * 5
+    best = [max(t.distance_m for t in trials) for trials in replays]
+    assert best[0] >= 0.25 and max(best) >= 0.6  # 0.25 m is the start gait
+    state = world.state()
+    assert state["search_distance_m"][0] == max(best)  # the parent is the best so far
+
+    resumed = _world(local_search=4)
+    resumed.restore(state)
+    ahead, again = _climb(world, range(13, 16)), _climb(resumed, range(13, 16))
+    for a, b in zip(ahead, again, strict=True):
+        assert [t.distance_m for t in a] == [t.distance_m for t in b]
+        assert all(np.array_equal(x.postures, y.postures) for x, y in zip(a, b, strict=True))
+
+
+def test_no_local_search_replays_the_greedy_policy_only():
+    world = _world(local_search=0)
+    (trials,) = _climb(world, range(1, 2))
+    assert len(trials) == 1 and world.exact.trials == 1 and world.state() == {}
