@@ -24,7 +24,7 @@ DEMO := runs/demo
 demo: setup
 	$(BIN)/qdsega assemble assemblies/*.yaml --out-dir out/assemblies
 	$(BIN)/qdsega train assemblies/snake5.yaml --sim memo --preset paper-snake \
-		--generations 12 --workers 2 --seed 0 --out $(DEMO) --overwrite
+		--generations 8 --workers 2 --seed 0 --out $(DEMO) --overwrite
 	$(BIN)/qdsega evaluate $(DEMO)
 	$(BIN)/qdsega render $(DEMO) -o $(DEMO)/gait.mp4
 	$(BIN)/qdsega plot $(DEMO)
