@@ -40,7 +40,7 @@ def test_a_memo_table_measured_by_ray_actors_equals_the_local_one(local_ray):
 
 
 TINY = "agent: {learning: {trials: 20}, genetic: {population: 4, generations: 2}}\n"
-TINY += "task: {trial_steps: 4}\n"
+TINY += "task: {trial_steps: 4}\nlocal_search: 1\n"
 
 
 def test_a_run_with_ray_local_learns_what_local_processes_learn(tmp_path):

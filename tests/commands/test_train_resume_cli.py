@@ -244,7 +244,7 @@ def test_a_snake_with_60_deg_level_spans_trains_with_no_configuration(write_form
         """
     )
     budget = tmp_path / "budget.yaml"  # a small population: nothing about timing
-    budget.write_text("agent: {genetic: {population: 4}}\n")
+    budget.write_text("agent: {genetic: {population: 4}}\nlocal_search: 1\n")
     run = tmp_path / "run"
     result = run_cli(
         "train", formation, "--sim", "memo", "--preset", "paper-snake", "--config", budget,

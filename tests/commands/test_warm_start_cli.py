@@ -15,6 +15,7 @@ from qdsega import ASSEMBLIES_DIR
 MSM = ["--sim", "msm", "--trials", "2000", "--quiet"]
 MEMO_BUDGET = """\
 workers: 1
+local_search: 1
 agent:
   learning: {trials: 40}
   genetic: {population: 8, generations: 2}
