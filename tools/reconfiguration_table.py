@@ -10,8 +10,8 @@ README's preset; kept if it is there), ``qdsega evaluate`` of it on the changed 
 run of the changed body ``OUT/fresh/NEW-seedS`` and one warm-started from the old run
 ``OUT/warm/NEW-seedS`` (same preset and seed). A finished run is kept, an unfinished one
 resumed. Then the table, printed and written to ``OUT/table.md``: per seed, the old policy's
-exact distance on the changed body, the fresh run's final exact distance F, and the
-generations (and simulated steps: memo transitions measured and exact trials' commands) each
+exact distance on the changed body, the fresh run's result F (its farthest exact generation),
+and the generations (and simulated steps: memo transitions measured and exact trials' commands) each
 run needs until its greedy policy covers 0.9 F with exact physics.
 """
 
@@ -61,9 +61,9 @@ AGGREGATE_COLUMNS = (
 
 @dataclass(frozen=True)
 class Change:
-    """One seed of one change: the old policy on the new body (m), the fresh run's final
-    distance F (m), the (generation, simulated steps) at which the fresh and the warm run
-    first reach 0.9 F, and warm over fresh generations."""
+    """One seed of one change: the old policy on the new body (m), the fresh run's result
+    F (m, its farthest exact generation), the (generation, simulated steps) at which the
+    fresh and the warm run first reach 0.9 F, and warm over fresh generations."""
 
     moved_m: float
     fresh_m: float

@@ -140,7 +140,8 @@ def run(args: argparse.Namespace) -> int:
     if summary["optimum"] is not None:
         facts += f", optimum {summary['optimum']:.4f} m ({summary['greedy_over_optimum']:.3f})"
     print(
-        f"{summary['formation']}: greedy policy {facts}, {summary['env_steps']} steps in "
+        f"{summary['formation']}: greedy policy of generation {summary['result_generation']} "
+        f"{facts}, {summary['env_steps']} steps in "
         f"{summary['wall_s']:.1f} s -> {out}"
     )
     return 0

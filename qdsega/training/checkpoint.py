@@ -2,7 +2,8 @@
 
 ``checkpoint.npz`` in the run folder holds the learner's state between two generations
 (:class:`qdsega.agent.learner.LearnerState`: population, random generator state, the last
-Q-table) and everything the run has recorded so far (metrics rows, greedy trajectories), so a
+Q-table), everything the run has recorded so far (metrics rows, greedy trajectories) and its
+result so far (the greedy policy of the generation that went farthest with exact physics), so a
 run stopped at any moment (Ctrl-C, SIGKILL, power loss) continues from its last finished
 generation and ends exactly as it would have without the stop. It is written to a temporary
 file and renamed over the old one, so it is always whole.
@@ -18,6 +19,7 @@ from pathlib import Path
 import numpy as np
 
 from qdsega.agent.learner import LearnerState
+from qdsega.agent.policy import GreedyPolicy
 from qdsega.agent.space import ExplorationSpace
 from qdsega.atomic import replaced_atomically
 from qdsega.errors import FormationError
@@ -36,8 +38,12 @@ class Checkpoint:
         poses: each finished generation's greedy trial in the learner's world (x m, y m,
             theta rad), shape (G, steps + 1, 3).
         exact_poses: the same policies replayed with exact physics, shape (G, steps + 1, 3).
-        gait: the postures the last exact replay went through, start posture first,
+        gait: the postures the result's exact replay went through, start posture first,
             shape (k + 1, J).
+        result: the run's result so far: the generation (from 1) whose greedy policy went
+            farthest with exact physics (``greedy_exact_m``; ties: the earliest); 0 before
+            the first generation.
+        result_policy: that generation's greedy policy; None before the first generation.
         world: what the run put into its world (grounded observations), as arrays.
         env_steps: learning steps (commands) so far.
         elapsed_s: wall time spent so far (s), over all sessions of the run.
@@ -51,6 +57,8 @@ class Checkpoint:
     world: dict[str, np.ndarray]
     env_steps: int
     elapsed_s: float
+    result: int
+    result_policy: GreedyPolicy | None
 
 
 def save_checkpoint(run: Path, checkpoint: Checkpoint) -> None:
@@ -74,12 +82,21 @@ def save_checkpoint(run: Path, checkpoint: Checkpoint) -> None:
             previous_next_interior=space.next_interior,
             previous_q=q,
         )
+    if checkpoint.result_policy is not None:
+        policy = checkpoint.result_policy
+        arrays.update(
+            result_q=policy.q,
+            result_actions=policy.actions,
+            result_postures=policy.postures,
+            result_next_interior=policy.next_interior,
+        )
     meta = {
         "completed": state.completed,
         "rng_state": state.rng_state,
         "env_steps": checkpoint.env_steps,
         "elapsed_s": checkpoint.elapsed_s,
         "elite_m": state.elite[1],
+        "result": checkpoint.result,
     }
     with replaced_atomically(run / CHECKPOINT_FILE) as partial:
         np.savez(partial, meta=np.array(json.dumps(meta)), **arrays)
@@ -90,6 +107,29 @@ def _elite(data: np.lib.npyio.NpzFile, meta: dict) -> tuple[np.ndarray, float | 
     if "elite" not in data:
         return np.zeros((0, data["population"].shape[1]), dtype=np.int64), None
     return data["elite"], meta["elite_m"]
+
+
+def _result(
+    data: np.lib.npyio.NpzFile,
+    meta: dict,
+    metrics: np.ndarray,
+    previous: tuple[ExplorationSpace, np.ndarray] | None,
+) -> tuple[int, GreedyPolicy | None]:
+    """The result of a checkpoint; in one written before results were kept, the last
+    generation (what such a run reported)."""
+    if "result" in meta:
+        if "result_q" not in data:
+            return int(meta["result"]), None
+        policy = GreedyPolicy(
+            q=data["result_q"],
+            actions=data["result_actions"],
+            postures=data["result_postures"],
+            next_interior=data["result_next_interior"],
+        )
+        return int(meta["result"]), policy
+    if previous is None:
+        return 0, None
+    return len(metrics), GreedyPolicy.of(*previous)
 
 
 def load_checkpoint(run: Path) -> Checkpoint | None:
@@ -114,6 +154,7 @@ def load_checkpoint(run: Path) -> Checkpoint | None:
                     next_interior=data["previous_next_interior"],
                 )
                 previous = (space, data["previous_q"])
+            result, result_policy = _result(data, meta, data["metrics"], previous)
             return Checkpoint(
                 learner=LearnerState(
                     completed=int(meta["completed"]),
@@ -133,6 +174,8 @@ def load_checkpoint(run: Path) -> Checkpoint | None:
                 },
                 env_steps=int(meta["env_steps"]),
                 elapsed_s=float(meta["elapsed_s"]),
+                result=result,
+                result_policy=result_policy,
             )
     except (OSError, ValueError, KeyError, TypeError, zipfile.BadZipFile) as exc:
         message = f"corrupt {CHECKPOINT_FILE} ({exc.__class__.__name__}: {exc})"

@@ -2,7 +2,7 @@
 
 ``evaluation.json`` in the run folder holds:
 
-* ``distance_m``: distance toward the light covered in one trial by the greedy final policy,
+* ``distance_m``: distance toward the light covered in one trial by the run's result policy,
   every step simulated in PyBullet (same lower agent, step duration and trial length as in
   training); ``failure`` says why the trial ended early, if it did;
 * ``memo_prediction_m``: what the memo table predicted for that policy (memo runs);

@@ -17,20 +17,21 @@ The run folder holds:
   (:mod:`qdsega.training.checkpoint`); ``qdsega train --resume RUN`` continues from it;
 * ``metrics.csv``: one row per finished generation (see :data:`METRIC_COLUMNS`);
 * ``summary.json`` (written last: its presence means the run is finished): the outcome
-  (``distance_m``: the final greedy policy's distance with exact physics, the run's result;
-  ``greedy_distance``: what the learner's world predicted for it; exact optimum, budget, wall
-  time, seed; ``formation_file``, the original formation, and ``formation_sha256``, its
+  (``distance_m``: the run's result, the greedy policy that went farthest with exact
+  physics over all generations (``result_generation``, from 1; ties: the earliest), and its
+  distance; ``greedy_distance``: what the learner's world predicted for it; exact optimum,
+  budget, wall time, seed; ``formation_file``, the original formation, and ``formation_sha256``, its
   content hash);
   ``optimum`` is the straight-walk optimum of :func:`qdsega.msm.msm_optimum`, exact
   (``optimum_exact``) for a light straight ahead, an upper reference otherwise; null in
   PyBullet worlds (``qdsega evaluate`` measures a reference gait there);
-* ``policy.npz``: the final generation's greedy policy: ``q`` (states, A), ``actions`` (A, J),
+* ``policy.npz``: the result's greedy policy: ``q`` (states, A), ``actions`` (A, J),
   ``postures`` (interior states, J), ``next_interior`` (A,);
 * ``transitions.npz`` (memo mode): every measured transition, reused when the run resumes;
 * ``trajectories.npz``: what the figures need: ``poses`` (G, steps + 1, 3), the greedy trial
   of every generation in the learner's world (x m, y m, theta rad), and ``exact_poses``, the
   same policies with exact physics; ``gait_postures`` (k + 1, J) and ``gait_legs``
-  (k + 1, n_legs), the final policy's exact trial as postures and as leg states 1..4;
+  (k + 1, n_legs), the result's exact trial as postures and as leg states 1..4;
   ``gait_angles_deg`` (k + 1, J) and ``joint_names`` (J,), the same trial as joint angles;
   ``optimum_postures`` (steps + 1, J), the optimum's witness; ``light`` (2,) (m).
 """
@@ -50,7 +51,7 @@ import numpy as np
 import yaml
 
 from qdsega.agent.learner import QDSEGA, Generation, LearnerState
-from qdsega.agent.policy import GreedyPolicy, Rollout
+from qdsega.agent.policy import Rollout
 from qdsega.atomic import replaced_atomically
 from qdsega.description import Formation, load_formation
 from qdsega.errors import FormationError
@@ -101,6 +102,7 @@ so far (memo transitions measured and exact trials' commands; every learning ste
 mode; 0 in the MSM), wall seconds of the generation (the exact replay included)."""
 
 _SIM_STEPS = METRIC_COLUMNS.index("sim_steps")
+_GREEDY_EXACT = METRIC_COLUMNS.index("greedy_exact_m")
 _FLOAT_COLUMNS = {
     "best_distance_m",
     "mean_distance_m",
@@ -372,6 +374,8 @@ def _first_checkpoint(formation: Formation, config: TrainingConfig, learner: QDS
         world={},
         env_steps=0,
         elapsed_s=0.0,
+        result=0,
+        result_policy=None,
     )
 
 
@@ -385,8 +389,15 @@ def _advance(
     elapsed_s: float,
 ) -> Checkpoint:
     """The checkpoint after ``generation`` and its exact replay (the learner has already
-    reproduced); ``sim_steps``: the run's simulated steps so far."""
+    reproduced); ``sim_steps``: the run's simulated steps so far. The generation becomes the
+    result when its exact replay goes strictly farther than the result so far."""
     space = generation.space
+    result, result_policy, gait = checkpoint.result, checkpoint.result_policy, checkpoint.gait
+    best_m = checkpoint.metrics[result - 1, _GREEDY_EXACT] if result else -math.inf
+    if exact.distance_m > best_m:
+        result = generation.index
+        result_policy = generation.policy
+        gait = exact.reached_postures(space.postures[0])
     row = [
         generation.index,
         space.n_actions,
@@ -406,10 +417,12 @@ def _advance(
         metrics=np.vstack([checkpoint.metrics, np.array(row, dtype=np.float64)]),
         poses=np.concatenate([checkpoint.poses, generation.greedy.poses[None]]),
         exact_poses=np.concatenate([checkpoint.exact_poses, exact.poses[None]]),
-        gait=exact.reached_postures(space.postures[0]),
+        gait=gait,
         world=world.state(),
         env_steps=checkpoint.env_steps + generation.steps,
         elapsed_s=elapsed_s,
+        result=result,
+        result_policy=result_policy,
     )
 
 
@@ -459,8 +472,8 @@ def _finish(
     checkpoint: Checkpoint,
 ) -> dict[str, Any]:
     """Write trajectories.npz, policy.npz and, last, summary.json from the final checkpoint."""
-    assert checkpoint.learner.previous is not None, "a finished run has learnt a generation"
-    space, q = checkpoint.learner.previous
+    policy = checkpoint.result_policy
+    assert policy is not None, "a finished run has learnt a generation"
     light = tuple(float(v) for v in world.task.light)
     optimum = world.optimum
     gait = checkpoint.gait
@@ -478,10 +491,11 @@ def _finish(
         else optimum.postures,
         light=np.array(light),
     )
-    GreedyPolicy.of(space, q).save(out / POLICY_FILE)
+    policy.save(out / POLICY_FILE)
     last = checkpoint.metrics[-1]
-    greedy_distance = float(last[METRIC_COLUMNS.index("greedy_distance_m")])
-    distance = float(last[METRIC_COLUMNS.index("greedy_exact_m")])
+    best = checkpoint.metrics[checkpoint.result - 1]
+    greedy_distance = float(best[METRIC_COLUMNS.index("greedy_distance_m")])
+    distance = float(best[_GREEDY_EXACT])
     summary = {
         "formation": formation.name,
         **read_formation_record(out).summary(),
@@ -494,12 +508,13 @@ def _finish(
         "env_steps": checkpoint.env_steps,
         "sim_steps": int(last[_SIM_STEPS]),
         "distance_m": distance,
+        "result_generation": checkpoint.result,
         "greedy_distance": greedy_distance,
         "prediction_error": _relative_error(greedy_distance, distance),
         "optimum": None if optimum is None else optimum.bound_m,
         "optimum_exact": None if optimum is None else optimum.exact,
         "greedy_over_optimum": None if optimum is None else distance / optimum.bound_m,
-        "final_heading_deg": math.degrees(checkpoint.exact_poses[-1, -1, 2]),
+        "final_heading_deg": math.degrees(checkpoint.exact_poses[checkpoint.result - 1, -1, 2]),
         "light_xy": list(light),
         "wall_s": checkpoint.elapsed_s,
         "warm_start": _read_warm_record(out),

@@ -9,6 +9,7 @@ from pathlib import Path
 
 import imageio.v3 as iio
 import numpy as np
+import pytest
 from helpers import run_cli
 
 TOOLS = Path(__file__).resolve().parents[2] / "tools"
@@ -55,6 +56,8 @@ def test_memo_training_then_evaluate_plot_render_report(tmp_path):
     assert result.returncode == 0, result.stderr
     evaluation = json.loads((run / "evaluation.json").read_text())
     assert evaluation["memo_prediction_m"] == summary["greedy_distance"]
+    # policy.npz is the result's policy: PyBullet replays it as far as training measured
+    assert evaluation["distance_m"] == pytest.approx(summary["distance_m"], abs=1e-9)
     assert len(evaluation["postures"]) == 4 or evaluation["failure"]
     kinds = [reference["kind"] for reference in evaluation["references"]]
     assert kinds == ["serpenoid travelling wave", "CPG gait searched by CMA-ES"]

@@ -4,7 +4,10 @@ from __future__ import annotations
 
 import csv
 import json
+import math
 
+import numpy as np
+import pytest
 import yaml
 
 from qdsega import ASSEMBLIES_DIR
@@ -23,6 +26,13 @@ def test_train_then_plot(cli, tmp_path):
     assert summary["generations"] == 3 and summary["seed"] == 2 and summary["optimum_exact"]
     rows = list(csv.DictReader((run / "metrics.csv").open()))
     assert [r["generation"] for r in rows] == ["1", "2", "3"]
+    exact_m = [float(r["greedy_exact_m"]) for r in rows]  # the result: the farthest, earliest
+    assert summary["result_generation"] == exact_m.index(max(exact_m)) + 1
+    assert summary["distance_m"] == pytest.approx(max(exact_m), abs=1e-6)
+    with np.load(run / "trajectories.npz") as trajectories:
+        heading = trajectories["exact_poses"][summary["result_generation"] - 1, -1, 2]
+    assert summary["final_heading_deg"] == pytest.approx(math.degrees(heading))
+    assert f"greedy policy of generation {summary['result_generation']} " in result.stdout
     config = yaml.safe_load((run / "config.yaml").read_text())
     assert config["agent"]["genetic"]["generations"] == 3 and config["seed"] == 2
     plotted = cli("plot", run)
