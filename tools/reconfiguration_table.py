@@ -11,8 +11,8 @@ run of the changed body ``OUT/fresh/NEW-seedS`` and one warm-started from the ol
 ``OUT/warm/NEW-seedS`` (same preset and seed). A finished run is kept, an unfinished one
 resumed. Then the table, printed and written to ``OUT/table.md``: per seed, the old policy's
 exact distance on the changed body, the fresh run's result F (its farthest exact generation),
-and the generations (and simulated steps: memo transitions measured and exact trials' commands) each
-run needs until its greedy policy covers 0.9 F with exact physics.
+and the generations (and simulated steps: memo transitions measured and exact trials'
+commands) each run needs until its greedy policy covers 0.9 F with exact physics.
 """
 
 from __future__ import annotations

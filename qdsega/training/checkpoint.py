@@ -117,19 +117,17 @@ def _result(
 ) -> tuple[int, GreedyPolicy | None]:
     """The result of a checkpoint; in one written before results were kept, the last
     generation (what such a run reported)."""
-    if "result" in meta:
-        if "result_q" not in data:
-            return int(meta["result"]), None
+    if "result" not in meta:
+        return (0, None) if previous is None else (len(metrics), GreedyPolicy.of(*previous))
+    policy = None
+    if "result_q" in data:  # none before the first generation
         policy = GreedyPolicy(
             q=data["result_q"],
             actions=data["result_actions"],
             postures=data["result_postures"],
             next_interior=data["result_next_interior"],
         )
-        return int(meta["result"]), policy
-    if previous is None:
-        return 0, None
-    return len(metrics), GreedyPolicy.of(*previous)
+    return int(meta["result"]), policy
 
 
 def load_checkpoint(run: Path) -> Checkpoint | None:

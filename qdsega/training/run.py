@@ -20,8 +20,8 @@ The run folder holds:
   (``distance_m``: the run's result, the greedy policy that went farthest with exact
   physics over all generations (``result_generation``, from 1; ties: the earliest), and its
   distance; ``greedy_distance``: what the learner's world predicted for it; exact optimum,
-  budget, wall time, seed; ``formation_file``, the original formation, and ``formation_sha256``, its
-  content hash);
+  budget, wall time, seed; ``formation_file``, the original formation, and
+  ``formation_sha256``, its content hash);
   ``optimum`` is the straight-walk optimum of :func:`qdsega.msm.msm_optimum`, exact
   (``optimum_exact``) for a light straight ahead, an upper reference otherwise; null in
   PyBullet worlds (``qdsega evaluate`` measures a reference gait there);
