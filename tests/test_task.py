@@ -5,7 +5,15 @@ import math
 import numpy as np
 import pytest
 
-from qdsega.task import Task, TaskConfig, exterior_state, move_pose, relative_move
+from qdsega.task import (
+    Task,
+    TaskConfig,
+    edge_directions,
+    exterior_state,
+    exterior_state_ahead,
+    move_pose,
+    relative_move,
+)
 
 
 def test_eq17_by_hand():
@@ -28,6 +36,30 @@ def test_exterior_bins():
     for heading, state in cases.items():
         assert task.exterior((0.0, 0.0, heading)) == state
         assert exterior_state(0.0, 0.0, heading, 10.0, 0.0, task.edges) == state
+
+
+@pytest.mark.parametrize(
+    "edges_deg", [(-45.0, -15.0, 15.0, 45.0), (-80.0, 0.0, 89.0), (-120.0, 0.0, 120.0)]
+)
+def test_the_fast_exterior_state_is_the_exact_one(edges_deg):
+    # Random poses, plus poses whose light lies on an edge, a hair beside it, on the side or
+    # behind: the cross-product test gives exterior_state's bin wherever it is sure, and
+    # defers to it elsewhere (always, for edges that are not all ahead).
+    rng = np.random.default_rng(0)
+    edges = np.radians(np.asarray(edges_deg))
+    directions = edge_directions(edges)
+    light = (50.0, 3.0)
+    poses = [tuple(p) for p in rng.uniform([-5, -5, -40], [5, 5, 40], size=(3000, 3))]
+    for x, y in rng.uniform(-5, 5, size=(40, 2)):
+        bearing = math.atan2(light[1] - y, light[0] - x)
+        for angle in (*edges, math.pi / 2, -math.pi / 2, math.pi):
+            for hair in (0.0, 1e-15, -1e-15, 1e-9, -1e-9, 1e-7, -1e-7):
+                poses.append((x, y, bearing - angle + hair))
+    for x, y, theta in poses:
+        fast = exterior_state_ahead(
+            x, y, theta, math.cos(theta), math.sin(theta), *light, edges, directions
+        )
+        assert fast == exterior_state(x, y, theta, *light, edges), (x, y, theta)
 
 
 def test_a_body_frame_move_and_its_inverse():

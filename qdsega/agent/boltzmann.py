@@ -41,7 +41,7 @@ def boltzmann_select(q_row: np.ndarray, temp: float, u: float, weights: np.ndarr
     return boltzmann_select_below(q_row, top, temp, u, weights)
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def boltzmann_select_below(
     q_row: np.ndarray, top: float, temp: float, u: float, weights: np.ndarray
 ) -> int:
@@ -79,7 +79,32 @@ def boltzmann_select_below(
     return n - 1
 
 
-@njit(cache=True, fastmath=True)
+@njit(cache=True, _nrt=False)
+def live_actions(
+    q_row: np.ndarray, top: float, temp: float, slack: float, limit: int, members: np.ndarray
+) -> int:
+    """The actions whose weight at ``temp`` is above ``exp(UNDERFLOW - slack)``, written to
+    ``members`` (increasing); how many, or -1 (nothing written) where more than ``limit``.
+
+    Only these can have weight for :func:`boltzmann_select_among` while the temperature does
+    not rise, their Q values do not change (actions without weight are never drawn) and the
+    row's max stays above ``top - slack * T`` (T the temperature of the draw).
+    """
+    threshold = (UNDERFLOW - slack) * temp
+    count = 0
+    for a in range(q_row.shape[0]):
+        count += q_row[a] - top > threshold
+    if count > limit:
+        return -1
+    m = 0
+    for a in range(q_row.shape[0]):
+        if q_row[a] - top > threshold:
+            members[m] = a
+            m += 1
+    return m
+
+
+@njit(cache=True, fastmath=True, _nrt=False)
 def _approximate_weights(
     q_row: np.ndarray, top: float, scale: float, weights: np.ndarray, bits: np.ndarray
 ) -> float:
@@ -104,7 +129,7 @@ def _approximate_weights(
     return total
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def boltzmann_select_fast(
     q_row: np.ndarray,
     top: float,
@@ -125,8 +150,8 @@ def boltzmann_select_fast(
 
     Args:
         q_row: Q(s, .), shape (A,).
-        top, second, best: max Q(s, .), the max over the other actions (``top`` on ties), and
-            an action with the max.
+        top, second, best: max Q(s, .), at least the max over the other actions (``top`` on
+            ties), and an action with the max.
         temp, u: as :func:`boltzmann_select_below`.
         weights, bits: scratch space, shape (>= A,), float64 and int64.
     """

@@ -24,8 +24,19 @@ import math
 import numpy as np
 from numba import njit
 
-from qdsega.agent.boltzmann import boltzmann_select_fast, temperature
-from qdsega.task import exterior_state, move_pose, step_reward
+from qdsega.agent.boltzmann import (
+    UNDERFLOW,
+    boltzmann_select_fast,
+    live_actions,
+    temperature,
+)
+from qdsega.task import (
+    edge_directions,
+    exterior_state,
+    exterior_state_ahead,
+    move_position,
+    step_reward,
+)
 
 
 @njit(cache=True)
@@ -34,7 +45,7 @@ def q_update(q: float, reward: float, best_next: float, alpha: float, gamma: flo
     return (1.0 - alpha) * q + alpha * (reward + gamma * best_next)
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def _scan_row(row: np.ndarray, s: int, stats: np.ndarray, arg: np.ndarray) -> None:
     """Row ``s``'s statistics from scratch: ``stats[s] = (max, max over the other actions,
     1.0 = valid)`` and ``arg[s]`` the first action with the max (ties: the second max is the
@@ -51,7 +62,7 @@ def _scan_row(row: np.ndarray, s: int, stats: np.ndarray, arg: np.ndarray) -> No
     arg[s] = best
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def _row_top(q: np.ndarray, s: int, stats: np.ndarray, arg: np.ndarray) -> float:
     """max Q(s, .), rescanning row ``s`` where an update left its statistics stale."""
     if stats[s, 2] == 0.0:
@@ -59,11 +70,56 @@ def _row_top(q: np.ndarray, s: int, stats: np.ndarray, arg: np.ndarray) -> float
     return stats[s, 0]
 
 
-@njit(cache=True)
-def _update_stats(
-    s: int, a: int, old: float, new: float, stats: np.ndarray, arg: np.ndarray
-) -> None:
-    """Keep row ``s``'s statistics after Q(s, a) went from ``old`` to ``new`` (valid ones)."""
+_FEW = 16
+"""At most this many live actions in a row: the roulette walks only them."""
+_SLACK = 50.0
+"""Live actions are counted with this much room below the underflow (in ``Q / T``), so that
+they stay a superset of those with weight while the row's max falls less than it times T."""
+
+
+@njit(cache=True, _nrt=False)
+def _choose(
+    q: np.ndarray,
+    s: int,
+    stats: np.ndarray,
+    arg: np.ndarray,
+    members: np.ndarray,
+    temp: float,
+    u: float,
+    scratch: np.ndarray,
+    weights: np.ndarray,
+    bits: np.ndarray,
+) -> int:
+    """Eq. (18)'s roulette over row ``s`` with pointer ``u``, from the row's statistics: the
+    best action where no other has weight; the roulette over the row's live actions
+    (``members[s]``, kept while the row's max does not fall) where at most :data:`_FEW`
+    have; else over the whole row."""
+    top = _row_top(q, s, stats, arg)
+    if (stats[s, 1] - top) * (1.0 / temp) <= UNDERFLOW:
+        return arg[s]
+    live, since = stats[s, 3], stats[s, 4]
+    if (
+        live == -2.0
+        or (live == -1.0 and temp <= 0.5 * since)
+        or (live >= 0.0 and (temp > since or (stats[s, 5] - top) / temp > 0.5 * _SLACK))
+    ):
+        live = float(live_actions(q[s], top, temp, _SLACK, _FEW, members[s]))
+        stats[s, 3], stats[s, 4], stats[s, 5] = live, temp, top
+    if live >= 0.0:
+        # The roulette over the live actions' values alone draws the same action.
+        m = int(live)
+        for j in range(m):
+            scratch[j] = q[s, members[s, j]]
+        j = boltzmann_select_fast(scratch[:m], top, top, 0, temp, u, weights, bits)
+        return members[s, j]
+    return boltzmann_select_fast(q[s], top, stats[s, 1], arg[s], temp, u, weights, bits)
+
+
+@njit(cache=True, _nrt=False)
+def _update_stats(s: int, a: int, new: float, stats: np.ndarray, arg: np.ndarray) -> None:
+    """Keep row ``s``'s statistics (valid ones) after Q(s, a) became ``new``: the bound on
+    the second max holds as the others fall, and the row is rescanned once its best falls
+    below it."""
     top, second = stats[s, 0], stats[s, 1]
     if a == arg[s]:
         if new >= second:
@@ -75,8 +131,6 @@ def _update_stats(
         arg[s] = a
     elif new >= second:
         stats[s, 1] = new
-    elif old >= second:
-        stats[s, 2] = 0.0
 
 
 @njit(cache=True)
@@ -141,13 +195,18 @@ def learn_on_table(
     """
     n_exterior = edges.shape[0]
     n_interior = dx.shape[0]
-    weights = np.empty(q.shape[1])
+    scratch, weights = np.empty(q.shape[1]), np.empty(q.shape[1])
     bits = np.empty(q.shape[1], dtype=np.int64)
-    # Per row: max Q, max Q over the other actions, valid flag; and the best action (eq. 1's
-    # max, the roulette's shift and its greedy shortcut), rescanned only when an update may
-    # have lowered them.
-    stats = np.zeros((q.shape[0], 3))
+    # Per row: max Q, a bound on the max over the other actions (exact after a scan), valid
+    # flag, and the best action (eq. 1's max, the roulette's shift and its greedy shortcut),
+    # rescanned only when an update may have lowered the max; then how many live actions
+    # ``members`` holds (-1: more than _FEW, -2: not known), and the temperature and max Q
+    # they were counted at.
+    stats = np.zeros((q.shape[0], 6))
+    stats[:, 3] = -2.0
     arg = np.zeros(q.shape[0], dtype=np.int64)
+    members = np.empty(q.shape, dtype=np.int64)
+    directions = edge_directions(edges)
     light_x, light_y = light[0], light[1]
     d_start = math.hypot(light_x, light_y)
     steps = 0
@@ -155,17 +214,14 @@ def learn_on_table(
         temp = temperature(
             trial, temperature_params[0], temperature_params[1], temperature_params[2]
         )
-        x, y, theta = 0.0, 0.0, 0.0
+        x, y, theta, cos_theta, sin_theta = 0.0, 0.0, 0.0, 1.0, 0.0
         d = d_start
         previous, interior, node = -1, 0, 0
         exterior = exterior_state(x, y, theta, light_x, light_y, edges)
         fell[trial] = False
         for _ in range(trial_steps):
             s = interior * n_exterior + exterior
-            top = _row_top(q, s, stats, arg)
-            a = boltzmann_select_fast(
-                q[s], top, stats[s, 1], arg[s], temp, rng.random(), weights, bits
-            )
+            a = _choose(q, s, stats, arg, members, temp, rng.random(), scratch, weights, bits)
             uses[a] += 1
             steps += 1
             old = q[s, a]
@@ -183,16 +239,20 @@ def learn_on_table(
                     mx, my, mt = context_dx[r, a], context_dy[r, a], context_dtheta[r, a]
             if fails:
                 q[s, a] = (1.0 - alpha) * old + alpha * penalty
-                _update_stats(s, a, old, q[s, a], stats, arg)
+                _update_stats(s, a, q[s, a], stats, arg)
                 fell[trial] = True
                 break
-            x, y, theta = move_pose(x, y, theta, mx, my, mt)
+            x, y = move_position(x, y, cos_theta, sin_theta, mx, my)
+            theta += mt
+            cos_theta, sin_theta = math.cos(theta), math.sin(theta)
             d_new = math.hypot(light_x - x, light_y - y)
             previous, interior = interior, next_interior[a]
-            exterior = exterior_state(x, y, theta, light_x, light_y, edges)
+            exterior = exterior_state_ahead(
+                x, y, theta, cos_theta, sin_theta, light_x, light_y, edges, directions
+            )
             best_next = _row_top(q, interior * n_exterior + exterior, stats, arg)
             q[s, a] = q_update(old, step_reward(d, d_new, reward_per_m), best_next, alpha, gamma)
-            _update_stats(s, a, old, q[s, a], stats, arg)
+            _update_stats(s, a, q[s, a], stats, arg)
             d = d_new
         distances[trial] = d_start - d
     return steps

@@ -8,13 +8,15 @@ import numpy as np
 import pytest
 
 from qdsega.agent.boltzmann import (
+    UNDERFLOW,
     boltzmann_select,
     boltzmann_select_below,
     boltzmann_select_fast,
     greedy,
+    live_actions,
     temperature,
 )
-from qdsega.agent.qlearning import learn_on_table, q_update
+from qdsega.agent.qlearning import _choose, _update_stats, learn_on_table, q_update
 from qdsega.agent.world import Transitions
 from qdsega.task import exterior_state
 
@@ -99,6 +101,29 @@ def test_compiled_loop_learns_a_two_action_chain():
     assert np.all(distances[fell] < 3.0)
 
 
+def test_live_actions_are_those_with_weight_and_their_roulette_is_the_rows():
+    """The actions within (UNDERFLOW - slack) * T of the max, or -1 beyond the limit; where
+    the row's max later falls by less than slack / 2 * T at a lower T, the roulette over their
+    values alone draws the whole row's action."""
+    gen = np.random.default_rng(2)
+    for _ in range(300):
+        row = gen.normal(0.0, 1.0, 30) * 10.0 ** gen.uniform(-6, 1)
+        top, temp = row.max(), 10.0 ** gen.uniform(-7, -2)
+        members = np.full(30, -1)
+        m = live_actions(row, top, temp, 50.0, 30, members)
+        expected = np.flatnonzero(row - top > (UNDERFLOW - 50.0) * temp)
+        assert members[:m].tolist() == expected.tolist()
+        assert live_actions(row, top, temp, 50.0, m - 1, members) == (-1 if m > 0 else 0)
+        later = row.copy()
+        later[row.argmax()] -= 25.0 * temp * gen.random()  # the max falls, a little
+        later_temp = temp * gen.uniform(0.1, 1.0)
+        w = np.empty(30)
+        for u in (gen.random(), 0.0, 1.0 - 2.0**-53):
+            live = later[members[:m]]
+            j = boltzmann_select_below(live, live.max(), later_temp, u, w)
+            assert members[j] == boltzmann_select_below(later, later.max(), later_temp, u, w)
+
+
 def _reference_loop(q, dx, dtheta, failed, next_interior, light, edges, trials, steps, rate, rng):
     """Plain Python: eq. (1) on every step, the row maximum recomputed every time."""
     weights = np.empty(q.shape[1])
@@ -125,15 +150,21 @@ def _reference_loop(q, dx, dtheta, failed, next_interior, light, edges, trials, 
 
 
 @pytest.mark.parametrize("rate", [0.002, 0.05])
-def test_compiled_loop_equals_a_plain_reference(rate: float):
+@pytest.mark.parametrize("n_actions", [5, 40])
+def test_compiled_loop_equals_a_plain_reference(rate: float, n_actions: int):
     """The compiled loop keeps each row's maximum up to date instead of rescanning the row,
-    and takes the fast roulette: the same Q-table, draw for draw, as recomputing it every step
-    (turns and falls too), at eq. (18)'s rate and at one that cools to greedy (T ~ 1e-6)."""
+    and takes the fast roulette, over the row's live actions where they are few: the same
+    Q-table, draw for draw, as recomputing it every step (turns and falls too), at eq. (18)'s
+    rate and at one that cools to greedy (T ~ 1e-6), with 40 actions of which 30 move as
+    one of the first 10 does (near-ties, as in a GA's population)."""
     gen = np.random.default_rng(5)
-    n_interior, n_actions = 6, 5
+    n_interior = 6
     dx = gen.uniform(-0.05, 0.1, (n_interior, n_actions))
     dtheta = gen.uniform(-0.3, 0.3, (n_interior, n_actions))
     failed = gen.random((n_interior, n_actions)) < 0.15
+    if n_actions > 10:
+        for array in (dx, dtheta, failed):
+            array[:, 10:] = array[:, np.arange(10, n_actions) % 10]
     next_interior = gen.integers(0, n_interior, n_actions)
     light, edges = np.array([3.0, 1.0]), EDGES
     start = gen.normal(0.0, 5.0, (n_interior * 4, n_actions))  # a carried-over table
@@ -152,3 +183,27 @@ def test_compiled_loop_equals_a_plain_reference(rate: float):
     # Compiled and interpreted arithmetic may differ in the last bit; a different draw would
     # change whole entries by tens.
     assert q == pytest.approx(q_ref, rel=1e-12, abs=1e-9)
+
+
+def test_a_rows_live_actions_are_recounted_when_its_max_falls():
+    """Row: 0, -0.1, -0.8, -0.8 at T = 1e-3: actions 0 and 1 are live (the others are 800 T
+    below). Then action 1 falls to -0.79 and action 0 to -2: actions 2 and 3 are now 10 T
+    below the max and share the end of the roulette; the cached live actions would miss them."""
+    q = np.array([[0.0, -0.1, -0.8, -0.8]])
+    stats = np.zeros((1, 6))
+    stats[:, 3] = -2.0
+    arg = np.zeros(1, dtype=np.int64)
+    members = np.empty(q.shape, dtype=np.int64)
+    scratch, w, bits = np.empty(4), np.empty(4), np.empty(4, dtype=np.int64)
+    temp = 1e-3
+
+    def draw(u: float) -> int:
+        return _choose(q, 0, stats, arg, members, temp, u, scratch, w, bits)
+
+    assert draw(0.5) == 0 and stats[0, 3] == 2.0  # two live actions, counted
+    for a, new in ((1, -0.79), (0, -2.0)):
+        q[0, a] = new
+        _update_stats(0, a, new, stats, arg)
+    for u in (0.5, 1.0 - 1e-5, 1.0 - 2.0**-53):
+        assert draw(u) == boltzmann_select_below(q[0], q[0].max(), temp, u, w)
+    assert draw(1.0 - 1e-5) == 3
