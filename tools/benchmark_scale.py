@@ -37,9 +37,9 @@ from qdsega.training.sweep import read_grid, run_sweep
 PAPER_TRANSITIONS = 283_000
 """Distinct legged12 transitions the paper's legged protocol needs (measured once by counting a
 paper-legged run's table in the MSM's posture space; issue 11)."""
-MSM_PROTOCOL_S = 45.0
-"""The MSM protocol's wall time per seed on one core (``tools/benchmark_msm.py``), used in the
-projection unless ``--protocols`` measures it."""
+MSM_PROTOCOL_S = 10.0
+"""The MSM protocol's wall time per seed on one core (``tools/benchmark_msm.py``: 9.7-9.8 s,
+2026-12-03), used in the projection unless ``--protocols`` measures it."""
 SWEEP_GRID = """\
 formations: [snake5]
 seeds: {seeds}
