@@ -31,6 +31,13 @@ class LearningConfig:
             starts every generation from zeros (open; True: what a generation learnt about
             the actions it hands on is kept, so a good gait is not lost to an unlucky
             exploration).
+        new_action_q: with ``carry_q``, what an action new to a carried state starts at:
+            ``"zero"`` (the paper's untried value) or ``"row_best"`` (the best value carried in
+            that state and exterior state: optimistic, so the roulette tries it). Where
+            rewards are large against eq. (18)'s temperature, as in centimetres on a snake
+            (carried values of about 3000 against T = 55-408), an action at 0 has a weight of
+            e^-7 to e^-50 against the carried best and is never drawn, whatever the table
+            says of it (``qdsega/agent/README.md``).
 
     The task the learner is rewarded for (trial length, eq. (17), penalty, exterior states)
     is :class:`qdsega.task.TaskConfig`.
@@ -43,8 +50,11 @@ class LearningConfig:
     temperature_rate: float = 0.002
     temperature_offset: float = 1.0
     carry_q: bool = True
+    new_action_q: str = "zero"
 
     def __post_init__(self) -> None:
+        if self.new_action_q not in ("zero", "row_best"):
+            raise ValueError(f"new_action_q must be zero or row_best, got {self.new_action_q!r}")
         if self.trials < 1:
             raise ValueError(f"trials must be at least 1, got {self.trials}")
         if not 0.0 < self.alpha <= 1.0:

@@ -210,7 +210,8 @@ class QDSEGA:
 
     def _initial_q(self, space: ExplorationSpace) -> np.ndarray:
         """Zeros, or with ``carry_q`` the previous generation's values where the interior
-        posture and the action posture both persist (any exterior state)."""
+        posture and the action posture both persist (any exterior state), and for an action
+        new to such a state what ``new_action_q`` says."""
         n_exterior = self.task.n_exterior
         q = np.zeros((space.n_interior, n_exterior, space.n_actions))
         if self.config.learning.carry_q and self._previous is not None:
@@ -219,9 +220,11 @@ class QDSEGA:
             rows = _match(space.postures, old_space.postures)
             cols = _match(space.actions, old_space.actions)
             new_i, new_a = np.flatnonzero(rows >= 0), np.flatnonzero(cols >= 0)
-            q[np.ix_(new_i, np.arange(n_exterior), new_a)] = old_q[
-                np.ix_(rows[new_i], np.arange(n_exterior), cols[new_a])
-            ]
+            carried = old_q[np.ix_(rows[new_i], np.arange(n_exterior), cols[new_a])]
+            q[np.ix_(new_i, np.arange(n_exterior), new_a)] = carried
+            if self.config.learning.new_action_q == "row_best" and len(new_a):
+                added = np.flatnonzero(cols < 0)
+                q[np.ix_(new_i, np.arange(n_exterior), added)] = carried.max(axis=2)[..., None]
         return q.reshape(space.n_interior * n_exterior, space.n_actions)
 
     def _learn_generation(self, index: int) -> Generation:

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import itertools
 from dataclasses import replace
 
 import numpy as np
@@ -10,6 +11,7 @@ import pytest
 from qdsega import ASSEMBLIES_DIR
 from qdsega.agent.config import PRESETS, with_budget
 from qdsega.agent.learner import QDSEGA
+from qdsega.agent.space import ExplorationSpace
 from qdsega.description import load_formation
 from qdsega.msm import LegLayout, MinimalSimulationModel, MSMParameters, msm_optimum
 from qdsega.task import Task
@@ -100,3 +102,37 @@ def test_without_reproduction_the_population_stays_as_drawn():
     assert all(np.array_equal(a, actions[0]) for a in actions)
     # the Q-table is carried over and keeps learning
     assert not np.array_equal(generations[0].q, generations[-1].q)
+
+
+@pytest.mark.parametrize("new_action_q", ["zero", "row_best"])
+def test_an_action_new_to_a_carried_state_starts_at_zero_or_at_the_states_best(new_action_q):
+    learner, _ = _learner(3, 2, 100)
+    learner.config = replace(
+        learner.config, learning=replace(learner.config.learning, new_action_q=new_action_q)
+    )
+    first = learner.step()
+    population = learner.population.copy()
+    seen = {a.tobytes() for a in first.space.actions}
+    population[0] = next(p for p in itertools.product([0, 1], repeat=population.shape[1])
+                         if np.array(p).tobytes() not in seen)  # fmt: skip
+    space = ExplorationSpace.from_population(population, learner.world.start_posture())
+    start = learner._initial_q(space).reshape(space.n_interior, 4, space.n_actions)
+    old_q = first.q.reshape(first.space.n_interior, 4, first.space.n_actions)
+    kept = np.array([np.any(np.all(space.actions == a, axis=1)) for a in first.space.actions])
+    assert kept.any()  # and population[0] is new
+    for i, posture in enumerate(space.postures):
+        old_i = np.flatnonzero(np.all(first.space.postures == posture, axis=1))
+        if len(old_i) == 0:
+            assert not start[i].any()  # a state new to the space starts at zero
+            continue
+        best = old_q[old_i[0]][:, kept].max(axis=1)
+        if new_action_q == "zero":
+            best = np.zeros_like(best)
+        for a, action in enumerate(space.actions):
+            old_a = np.flatnonzero(np.all(first.space.actions == action, axis=1))
+            if len(old_a):
+                assert np.array_equal(start[i, :, a], old_q[old_i[0], :, old_a[0]])
+            else:
+                assert np.array_equal(
+                    start[i, :, a], best if new_action_q == "row_best" else 0 * best
+                )
