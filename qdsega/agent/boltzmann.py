@@ -86,9 +86,10 @@ def live_actions(
     """The actions whose weight at ``temp`` is above ``exp(UNDERFLOW - slack)``, written to
     ``members`` (increasing); how many, or -1 (nothing written) where more than ``limit``.
 
-    Only these can have weight for :func:`boltzmann_select_among` while the temperature does
-    not rise, their Q values do not change (actions without weight are never drawn) and the
-    row's max stays above ``top - slack * T`` (T the temperature of the draw).
+    Only these can have weight while the temperature does not rise, their Q values do not
+    change (actions without weight are never drawn) and the row's max stays above
+    ``top - slack * T`` (T the temperature of the draw); so the roulette over their values
+    alone (:func:`boltzmann_select_fast` on them) draws the whole row's action.
     """
     threshold = (UNDERFLOW - slack) * temp
     count = 0

@@ -15,6 +15,9 @@ and runs ``trial_steps`` commands or until the lower agent fails. Each step:
    other (a time limit is not a terminal state).
 
 The rules (reward, exterior state, pose integration) are :mod:`qdsega.task`'s compiled kernels.
+The helpers called at every step are compiled with ``_nrt=False``: numba would otherwise
+reference-count every array they are passed, an atomic operation each (30 ns a call with three
+arrays, measured); such helpers must not allocate arrays.
 """
 
 from __future__ import annotations
