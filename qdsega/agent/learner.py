@@ -219,12 +219,12 @@ class QDSEGA:
             old_q = old_q.reshape(old_space.n_interior, n_exterior, old_space.n_actions)
             rows = _match(space.postures, old_space.postures)
             cols = _match(space.actions, old_space.actions)
-            new_i, new_a = np.flatnonzero(rows >= 0), np.flatnonzero(cols >= 0)
-            carried = old_q[np.ix_(rows[new_i], np.arange(n_exterior), cols[new_a])]
-            q[np.ix_(new_i, np.arange(n_exterior), new_a)] = carried
-            if self.config.learning.new_action_q == "row_best" and len(new_a):
+            kept_i, kept_a = np.flatnonzero(rows >= 0), np.flatnonzero(cols >= 0)
+            carried = old_q[np.ix_(rows[kept_i], np.arange(n_exterior), cols[kept_a])]
+            q[np.ix_(kept_i, np.arange(n_exterior), kept_a)] = carried
+            if self.config.learning.new_action_q == "row_best" and len(kept_a):
                 added = np.flatnonzero(cols < 0)
-                q[np.ix_(new_i, np.arange(n_exterior), added)] = carried.max(axis=2)[..., None]
+                q[np.ix_(kept_i, np.arange(n_exterior), added)] = carried.max(axis=2)[..., None]
         return q.reshape(space.n_interior * n_exterior, space.n_actions)
 
     def _learn_generation(self, index: int) -> Generation:
