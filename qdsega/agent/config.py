@@ -38,6 +38,11 @@ class LearningConfig:
             (carried values of about 3000 against T = 55-408), an action at 0 has a weight of
             e^-7 to e^-50 against the carried best and is never drawn, whatever the table
             says of it (``qdsega/agent/README.md``).
+        imitate_elite: on a transition table, before each generation learns, raise Q along
+            the path of the best verified trial (the elite, often the local search's
+            open-loop gait) to the discounted return the table gives it, so that the
+            learner takes that path wherever it knows nothing better (self-imitation,
+            :mod:`qdsega.agent.imitation`; open: False is the paper's learner).
 
     The task the learner is rewarded for (trial length, eq. (17), penalty, exterior states)
     is :class:`qdsega.task.TaskConfig`.
@@ -51,6 +56,7 @@ class LearningConfig:
     temperature_offset: float = 1.0
     carry_q: bool = True
     new_action_q: str = "zero"
+    imitate_elite: bool = False
 
     def __post_init__(self) -> None:
         if self.new_action_q not in ("zero", "row_best"):

@@ -87,10 +87,16 @@ def mutate(
     return np.where(hit, (population + shift) % levels, population)
 
 
-def vary_gait(commands: np.ndarray, levels: np.ndarray, rng: np.random.Generator) -> np.ndarray:
-    """A neighbour of a gait: ``commands`` (k, J) with one character of one of its postures
-    moved by 1 or 2 levels (within the joint's range) wherever that posture occurs, so that a
-    cycle stays a cycle.
+def vary_gait(
+    commands: np.ndarray, levels: np.ndarray, rng: np.random.Generator, *, phase_share: float = 0.0
+) -> np.ndarray:
+    """A neighbour of a gait ``commands`` (k, J).
+
+    A level move (the rest of the time): one character of one of its postures moved by 1 or 2
+    levels (within the joint's range) wherever that posture occurs, so that a cycle stays a
+    cycle. A phase move (a share ``phase_share`` of the time): one joint's column of commands
+    one step earlier or later (the end held), so that joint's wave shifts against the others'
+    while every cycle keeps its period.
 
     Raises:
         ValueError: no joint has more than one level.
@@ -100,6 +106,14 @@ def vary_gait(commands: np.ndarray, levels: np.ndarray, rng: np.random.Generator
     joints = np.flatnonzero(levels > 1)
     if len(joints) == 0:
         raise ValueError("no joint has more than one level to vary")
+    if phase_share > 0 and rng.random() < phase_share and len(commands) > 1:
+        j = int(joints[rng.integers(len(joints))])
+        column = commands[:, j].copy()
+        if rng.random() < 0.5:  # earlier: the last command held
+            commands[:-1, j] = column[1:]
+        else:  # later: the first command held
+            commands[1:, j] = column[:-1]
+        return commands
     distinct = np.unique(commands, axis=0)
     posture = distinct[rng.integers(len(distinct))]
     j = int(joints[rng.integers(len(joints))])

@@ -7,7 +7,9 @@ states (the paper's 10000 trials per generation cool the temperature from 408 to
 so each generation is a full learning run). Reproduction draws parents from a roulette wheel
 with one slot per action or per gene (``GeneticConfig.selection``). With
 ``GeneticConfig.elitism`` the postures of the best greedy trial verified so far
-(:meth:`QDSEGA.verify`) are put back into a population that lost them before it learns.
+(:meth:`QDSEGA.verify`) are put back into a population that lost them before it learns; with
+``LearningConfig.imitate_elite`` the Q-table is raised along that trial's path before it learns
+(:mod:`qdsega.agent.imitation`).
 """
 
 from __future__ import annotations
@@ -23,7 +25,8 @@ import numpy as np
 from qdsega.agent.config import QDSEGAConfig
 from qdsega.agent.fitness import fitness
 from qdsega.agent.genetic import random_population, reproduce, roulette_weights, with_elite
-from qdsega.agent.policy import GreedyPolicy, Rollout, rollout
+from qdsega.agent.imitation import imitate
+from qdsega.agent.policy import GreedyPolicy, Rollout, SequencePolicy, rollout
 from qdsega.agent.qlearning import learn_on_table
 from qdsega.agent.space import ExplorationSpace
 from qdsega.agent.table_world import TableWorld
@@ -79,6 +82,8 @@ class LearnerState:
             None before the first generation.
         elite: the postures of the best verified greedy trial, shape (k, J) (k = 0 before
             any), and its distance toward the light (m; None before any).
+        elite_path: that trial's reached postures in the order commanded, shape (k', J)
+            (k' = 0 before any, and in a state saved before paths were kept).
     """
 
     completed: int
@@ -86,6 +91,7 @@ class LearnerState:
     rng_state: dict[str, Any]
     previous: tuple[ExplorationSpace, np.ndarray] | None
     elite: tuple[np.ndarray, float | None]
+    elite_path: np.ndarray | None = None
 
 
 class QDSEGA:
@@ -123,6 +129,7 @@ class QDSEGA:
         self._previous: tuple[ExplorationSpace, np.ndarray] | None = None
         self._elite = np.zeros((0, len(levels)), dtype=np.int64)
         self._elite_m: float | None = None
+        self._elite_path = np.zeros((0, len(levels)), dtype=np.int64)
 
     def run(self) -> Iterator[Generation]:
         """Yield every remaining generation in turn (see :meth:`step`)."""
@@ -155,6 +162,7 @@ class QDSEGA:
         keep = np.argsort(-counts, kind="stable")[: self.config.genetic.population // 2]
         self._elite = postures[np.sort(keep)]
         self._elite_m = trial.distance_m
+        self._elite_path = reached.copy()
 
     def explore(
         self, generation: Generation, table: Transitions, rng: np.random.Generator
@@ -181,6 +189,7 @@ class QDSEGA:
             rng_state=copy.deepcopy(self.rng.bit_generator.state),
             previous=previous,
             elite=(self._elite.copy(), self._elite_m),
+            elite_path=self._elite_path.copy(),
         )
 
     def restore(self, state: LearnerState) -> None:
@@ -207,6 +216,10 @@ class QDSEGA:
         if elite.shape[1:] != (len(self.levels),) or len(elite) > len(self.population) // 2:
             raise ValueError(f"state elite {elite.shape} does not fit this learner")
         self._elite = elite.astype(np.int64)
+        path = state.elite_path
+        self._elite_path = np.zeros((0, len(self.levels)), dtype=np.int64)
+        if path is not None and len(path):
+            self._elite_path = np.asarray(path, dtype=np.int64).reshape(-1, len(self.levels))
 
     def _initial_q(self, space: ExplorationSpace) -> np.ndarray:
         """Zeros, or with ``carry_q`` the previous generation's values where the interior
@@ -244,6 +257,8 @@ class QDSEGA:
             greedy_world: World = self.world
         else:
             table = self.world.transitions(space.postures, space.actions)
+            if self.config.learning.imitate_elite:
+                self._imitate_elite(space, table, q)
             steps = self._learn_on_table(space, table, q, uses, distances, fell, self.rng)
             greedy_world = TableWorld(space=space, table=table, task=self.task)
         greedy = rollout(GreedyPolicy.of(space, q), greedy_world, steps=self.task.trial_steps)
@@ -260,6 +275,22 @@ class QDSEGA:
             greedy=greedy,
             wall_s=time.perf_counter() - start,
         )
+
+    def _imitate_elite(self, space: ExplorationSpace, table: Transitions, q: np.ndarray) -> None:
+        """Raise ``q`` along the elite trial's path as ``table`` walks it, up to its first
+        posture the population lost (elitism keeps at most half the population's worth)."""
+        actions = {row.tobytes() for row in space.actions}
+        path = self._elite_path
+        lost = [t for t, row in enumerate(path) if row.tobytes() not in actions]
+        path = path[: lost[0]] if lost else path
+        if len(path) == 0:
+            return
+        walk = rollout(
+            SequencePolicy(commands=path, space=space),
+            TableWorld(space=space, table=table, task=self.task),
+            steps=min(len(path), self.task.trial_steps),
+        )
+        imitate(q, walk, space.next_interior, task=self.task, gamma=self.config.learning.gamma)
 
     def _schedule(self) -> np.ndarray:
         learning = self.config.learning

@@ -124,15 +124,30 @@ class SequencePolicy:
     Args:
         commands: the postures (level indices) to command, in order, shape (k, J), started
             again from the first after the last. A policy plays one trial: make one per trial.
+        space: a generation's actions and interior states to play the sequence over (the
+            trial's actions and interior states are then that space's); None: the distinct
+            commands are the actions, and there are no interior states.
+
+    Raises:
+        ValueError: ``commands`` is empty, or holds a posture that is not an action of
+            ``space``.
     """
 
-    def __init__(self, *, commands: np.ndarray) -> None:
+    def __init__(self, *, commands: np.ndarray, space: ExplorationSpace | None = None) -> None:
         commands = np.asarray(commands, dtype=np.int64)
         if commands.ndim != 2 or len(commands) == 0:
             raise ValueError(f"commands must be (k >= 1, J), got {commands.shape}")
-        self.actions, order = np.unique(commands, axis=0, return_inverse=True)
-        self._order = order.reshape(-1)
-        self.next_interior = np.zeros(len(self.actions), dtype=np.int64)  # no states: unused
+        if space is None:
+            self.actions, order = np.unique(commands, axis=0, return_inverse=True)
+            self.next_interior = np.zeros(len(self.actions), dtype=np.int64)  # no states
+            self._order = order.reshape(-1)
+        else:
+            index = {row.tobytes(): a for a, row in enumerate(space.actions)}
+            missing = [row for row in commands if row.tobytes() not in index]
+            if missing:
+                raise ValueError(f"posture {missing[0].tolist()} is not an action of the space")
+            self.actions, self.next_interior = space.actions, space.next_interior
+            self._order = np.array([index[row.tobytes()] for row in commands], dtype=np.int64)
         self._sent = 0
 
     def act(self, interior: int, exterior: int) -> int:

@@ -73,6 +73,8 @@ def save_checkpoint(run: Path, checkpoint: Checkpoint) -> None:
         "elite": state.elite[0],
         **{f"world_{name}": array for name, array in checkpoint.world.items()},
     }
+    if state.elite_path is not None:
+        arrays["elite_path"] = state.elite_path
     if state.previous is not None:
         space, q = state.previous
         arrays.update(
@@ -160,6 +162,7 @@ def load_checkpoint(run: Path) -> Checkpoint | None:
                     rng_state=meta["rng_state"],
                     previous=previous,
                     elite=_elite(data, meta),
+                    elite_path=data.get("elite_path"),
                 ),
                 metrics=data["metrics"],
                 poses=data["poses"],

@@ -85,6 +85,9 @@ class TrainingConfig:
             (:class:`qdsega.training.worlds.TrainingWorld`); 0 for none (-). 10: on snake5
             (5 seeds) the median exact distance rose from 1.30 to 1.38 m and the worst seed
             from 0.85 to 1.33 m, for about twice the wall time (``qdsega/agent/README.md``).
+        phase_moves: the share of local-search neighbours that shift one joint's commands one
+            step in time instead of moving one level (:func:`qdsega.agent.genetic.vary_gait`),
+            in [0, 1] (-). 0: every neighbour a level move.
     """
 
     preset: str = DEFAULT_PRESET
@@ -102,6 +105,7 @@ class TrainingConfig:
     explore_trials: int = 4
     optimism: float = 1.0
     local_search: int = 10
+    phase_moves: float = 0.0
 
     def __post_init__(self) -> None:
         if self.workers < 1:
@@ -110,6 +114,8 @@ class TrainingConfig:
             raise ValueError(f"explore_trials must not be negative, got {self.explore_trials}")
         if self.local_search < 0:
             raise ValueError(f"local_search must not be negative, got {self.local_search}")
+        if not 0.0 <= self.phase_moves <= 1.0:
+            raise ValueError(f"phase_moves must be in [0, 1], got {self.phase_moves}")
         if not (self.optimism >= 0 and math.isfinite(self.optimism)):
             raise ValueError(f"optimism must not be negative, got {self.optimism}")
 

@@ -62,8 +62,10 @@ class TrainingWorld:
         optimism: with a grounded table, the upper confidence bound (in RMS gaps) of one more
             exploring trial, the greedy policy learnt on that bound; 0 for none.
         local_search: memo mode: neighbours of the best exact trial so far (one character of
-            one of its postures varied, :func:`qdsega.agent.genetic.vary_gait`) replayed with
-            exact physics each generation and offered to the learner's elite; 0 for none.
+            one of its postures varied, or one joint's timing, :func:`qdsega.agent.genetic.
+            vary_gait`) replayed with exact physics each generation and offered to the
+            learner's elite; 0 for none.
+        phase_moves: the share of those neighbours that shift one joint's timing.
         seed: the run's seed; exploring trial ``k`` of generation ``g`` draws from a generator
             seeded ``(seed, g, k)``, so a resumed run draws the same, whichever worker runs it.
         optimum: the exact optimum where one is known (the MSM), else None.
@@ -79,6 +81,7 @@ class TrainingWorld:
     explore: tuple[int, float] = (0, 1.0)
     optimism: float = 0.0
     local_search: int = 0
+    phase_moves: float = 0.0
     seed: int = 0
     _best: tuple[np.ndarray, float] | None = field(default=None, init=False, repr=False)
     """The commands (k, J) and distance (m) of the best local-search parent so far."""
@@ -128,7 +131,9 @@ class TrainingWorld:
         assert self._best is not None
         rng = np.random.default_rng([self.seed, index, _SEARCH_STREAM])
         neighbours = [
-            SequencePolicy(commands=vary_gait(self._best[0], levels, rng))
+            SequencePolicy(
+                commands=vary_gait(self._best[0], levels, rng, phase_share=self.phase_moves)
+            )
             for _ in range(self.local_search)
         ]
         trials = self.exact.rollouts(neighbours, steps=self.task.trial_steps)
@@ -254,6 +259,7 @@ def build_world(formation: Formation, config: TrainingConfig, run: Path) -> Trai
         explore=(config.explore_trials, last),
         optimism=config.optimism,
         local_search=config.local_search,
+        phase_moves=config.phase_moves,
         seed=config.seed,
     )
 

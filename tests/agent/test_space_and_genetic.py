@@ -107,3 +107,24 @@ def test_a_varied_gait_changes_one_character_of_one_posture_wherever_it_occurs()
     assert changed_joints == {0, 1, 3}
     with pytest.raises(ValueError, match="no joint has more than one level"):
         vary_gait(gait[:, 2:3], levels[2:3], rng)
+
+
+def test_a_phase_move_shifts_one_joints_commands_one_step_in_time():
+    levels = np.array([9, 2, 1, 9])
+    cycle = np.array([[0, 0, 0, 8], [4, 1, 0, 4], [8, 0, 0, 0]])
+    gait = cycle[[0, 1, 2, 0, 1, 2, 0, 1]]
+    rng = np.random.default_rng(1)
+    shifts = set()
+    for _ in range(100):
+        varied = vary_gait(gait, levels, rng, phase_share=1.0)
+        joints = np.flatnonzero((varied != gait).any(axis=0))
+        assert len(joints) == 1 and joints[0] != 2
+        j = int(joints[0])
+        others = np.delete(np.arange(4), j)
+        assert np.array_equal(varied[:, others], gait[:, others])
+        if np.array_equal(varied[:-1, j], gait[1:, j]) and varied[-1, j] == gait[-1, j]:
+            shifts.add("earlier")
+        else:
+            assert np.array_equal(varied[1:, j], gait[:-1, j]) and varied[0, j] == gait[0, j]
+            shifts.add("later")
+    assert shifts == {"earlier", "later"}

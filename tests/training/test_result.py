@@ -4,6 +4,7 @@ in the checkpoint (and read from one written before results were kept)."""
 from __future__ import annotations
 
 import json
+from dataclasses import replace
 from pathlib import Path
 from types import SimpleNamespace
 
@@ -126,3 +127,15 @@ def test_a_checkpoint_from_before_results_reports_its_last_generation(tmp_path: 
     loaded = load_checkpoint(file.parent)
     assert loaded.result == 3
     assert np.array_equal(loaded.result_policy.actions, [[3, 3]])
+
+
+def test_the_elite_path_survives_a_checkpoint_round_trip(tmp_path: Path):
+    checkpoint = _learn([0.2])
+    path = np.array([[1, 2], [3, 4], [1, 2]])
+    elite = (np.array([[1, 2], [3, 4]]), 0.2)
+    learner = replace(checkpoint.learner, elite=elite, elite_path=path)
+    save_checkpoint(tmp_path, replace(checkpoint, learner=learner))
+    loaded = load_checkpoint(tmp_path).learner
+    assert np.array_equal(loaded.elite_path, path) and loaded.elite[1] == 0.2
+    save_checkpoint(tmp_path, checkpoint)  # a state without a path (one saved before paths)
+    assert load_checkpoint(tmp_path).learner.elite_path is None
