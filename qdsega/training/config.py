@@ -87,7 +87,8 @@ class TrainingConfig:
             from 0.85 to 1.33 m, for about twice the wall time (``qdsega/agent/README.md``).
         phase_moves: the share of local-search neighbours that shift one joint's commands one
             step in time instead of moving one level (:func:`qdsega.agent.genetic.vary_gait`),
-            in [0, 1] (-). 0: every neighbour a level move.
+            in [0, 1] (-). 0: every neighbour a level move (0.5 was mixed on two snake5 seeds,
+            ``qdsega/agent/README.md``, design P).
     """
 
     preset: str = DEFAULT_PRESET
