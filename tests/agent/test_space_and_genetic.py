@@ -88,10 +88,14 @@ def test_roulette_over_actions_or_individuals():
         roulette_weights(fit, action_of, "genes")
 
 
+_GAIT_LEVELS = np.array([9, 2, 1, 9])
+_CYCLE = np.array([[0, 0, 0, 8], [4, 1, 0, 4], [8, 0, 0, 0]])
+"""Three postures of four joints, the third joint with a single level."""
+
+
 def test_a_varied_gait_changes_one_character_of_one_posture_wherever_it_occurs():
-    levels = np.array([9, 2, 1, 9])
-    cycle = np.array([[0, 0, 0, 8], [4, 1, 0, 4], [8, 0, 0, 0]])
-    gait = cycle[[0, 1, 2, 1, 0, 1, 2, 1]]
+    levels = _GAIT_LEVELS
+    gait = _CYCLE[[0, 1, 2, 1, 0, 1, 2, 1]]
     rng = np.random.default_rng(0)
     changed_joints = set()
     for _ in range(200):
@@ -110,9 +114,8 @@ def test_a_varied_gait_changes_one_character_of_one_posture_wherever_it_occurs()
 
 
 def test_a_phase_move_shifts_one_joints_commands_one_step_in_time():
-    levels = np.array([9, 2, 1, 9])
-    cycle = np.array([[0, 0, 0, 8], [4, 1, 0, 4], [8, 0, 0, 0]])
-    gait = cycle[[0, 1, 2, 0, 1, 2, 0, 1]]
+    levels = _GAIT_LEVELS
+    gait = _CYCLE[[0, 1, 2, 0, 1, 2, 0, 1]]
     rng = np.random.default_rng(1)
     shifts = set()
     for _ in range(100):
