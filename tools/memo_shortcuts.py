@@ -23,16 +23,14 @@ from pathlib import Path
 
 import numpy as np
 
+from qdsega.errors import FormationError
+from qdsega.msm.legs import LegLayout
 from qdsega.training.config import read_run_config
 from qdsega.training.formation_copy import load_run_formation
 
 _HOLDOUT = 0.2
 _NEIGHBOURS = 5
-
-
-def leg_states(postures: np.ndarray, swing: np.ndarray, lift: np.ndarray) -> np.ndarray:
-    """Each leg's state 0-3 (swing level + 2 x lift level) of postures (n, J): (n, legs)."""
-    return postures[:, swing] + 2 * postures[:, lift]
+_CHUNK = 256  # held-out rows per block of Hamming distances (bounds memory)
 
 
 def distinct(before: np.ndarray, after: np.ndarray) -> int:
@@ -45,21 +43,29 @@ def r_squared(truth: np.ndarray, prediction: np.ndarray) -> float:
     return float(1.0 - np.var(truth - prediction) / np.var(truth))
 
 
+def nearest_rows(queries: np.ndarray, rows: np.ndarray, k: int) -> np.ndarray:
+    """Indices of the k rows nearest each query in Hamming distance, ties by index: (n, k)."""
+    blocks = []
+    for start in range(0, len(queries), _CHUNK):
+        distance = (queries[start : start + _CHUNK, None, :] != rows[None, :, :]).sum(axis=2)
+        blocks.append(np.argsort(distance, axis=1, kind="stable")[:, :k])
+    return np.concatenate(blocks)
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("run", type=Path)
     parser.add_argument("--seed", type=int, default=0, help="draws the held-out 20 %%")
     args = parser.parse_args()
     formation = load_run_formation(args.run, read_run_config(args.run))
-    if not formation.legs or formation.broken_legs:
-        raise SystemExit(f"{formation.name}: needs a legged body without broken legs")
-    names = [joint.name for joint in formation.joints]
-    swing = np.array([names.index(leg.swing_joint) for leg in formation.legs])
-    lift = np.array([names.index(leg.lift_joint) for leg in formation.legs])
+    try:
+        legs = LegLayout.from_formation(formation)
+    except FormationError as exc:
+        raise SystemExit(f"{args.run}: {exc}") from None
+    swing, lift = np.array(legs.swing), np.array(legs.lift)
     with np.load(args.run / "transitions.npz") as data:
         pairs, values = data["pairs"], data["values"]
-    n_joints = len(names)
-    before, after = pairs[:, :n_joints], pairs[:, n_joints:]
+    before, after = pairs[:, : legs.n_joints], pairs[:, legs.n_joints :]
     print(f"{formation.name}: {len(pairs)} transitions, {distinct(before, after)} distinct")
 
     up_before, up_after = before[:, lift] == 1, after[:, lift] == 1
@@ -68,10 +74,10 @@ def main() -> None:
         canonical[:, swing] = np.where(moved, after[:, swing], before[:, swing])
         print(f"  swing ignored for legs {label}: {distinct(canonical, after)} distinct pairs")
 
-    n, n_legs = len(pairs), len(swing)
-    states = leg_states(before, swing, lift) * 4 + leg_states(after, swing, lift)
-    features = np.zeros((n, n_legs * 16 + 1))
-    features[np.arange(n)[:, None], np.arange(n_legs) * 16 + states] = 1.0
+    n = len(pairs)
+    states = (legs.states(before) - 1) * 4 + (legs.states(after) - 1)
+    features = np.zeros((n, legs.n_legs * 16 + 1))
+    features[np.arange(n)[:, None], np.arange(legs.n_legs) * 16 + states] = 1.0
     features[:, -1] = 1.0
     failed = values[:, 3] > 0.5
     order = np.random.default_rng(args.seed).permutation(n)
@@ -82,8 +88,7 @@ def main() -> None:
         weights, *_ = np.linalg.lstsq(features[fit], values[fit, column], rcond=None)
         score = r_squared(values[held, column], features[held] @ weights)
         print(f"  per-leg linear model, held-out R^2 of {label}: {score:.2f}")
-    distance = (pairs[test][:, None, :] != pairs[train][None, :, :]).sum(axis=2)
-    nearest = np.argsort(distance, axis=1, kind="stable")[:, :_NEIGHBOURS]
+    nearest = nearest_rows(pairs[test], pairs[train], _NEIGHBOURS)
     guessed = failed[train][nearest].mean(axis=1) > 0.5
     commoner = max(failed[test].mean(), 1.0 - failed[test].mean())
     print(
