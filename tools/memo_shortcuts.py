@@ -57,16 +57,15 @@ def main() -> None:
     parser.add_argument("run", type=Path)
     parser.add_argument("--seed", type=int, default=0, help="draws the held-out 20 %%")
     args = parser.parse_args()
-    formation = load_run_formation(args.run, read_run_config(args.run))
     try:
-        legs = LegLayout.from_formation(formation)
+        legs = LegLayout.from_formation(load_run_formation(args.run, read_run_config(args.run)))
     except FormationError as exc:
-        raise SystemExit(f"{args.run}: {exc}") from None
+        raise SystemExit(str(exc)) from None
     swing, lift = np.array(legs.swing), np.array(legs.lift)
     with np.load(args.run / "transitions.npz") as data:
         pairs, values = data["pairs"], data["values"]
     before, after = pairs[:, : legs.n_joints], pairs[:, legs.n_joints :]
-    print(f"{formation.name}: {len(pairs)} transitions, {distinct(before, after)} distinct")
+    print(f"{args.run}: {len(pairs)} transitions, {distinct(before, after)} distinct")
 
     up_before, up_after = before[:, lift] == 1, after[:, lift] == 1
     for label, moved in (("up before and after", up_before & up_after), ("up before", up_before)):
