@@ -94,6 +94,15 @@ class LearnerState:
     elite_path: np.ndarray | None = None
 
 
+def elite_postures(path: np.ndarray, population: int) -> np.ndarray:
+    """The postures elitism puts back from an elite trial's ``path`` (k, J): its distinct
+    postures, the most used first, at most half of ``population``, in sorted order, shape
+    (e, J)."""
+    postures, counts = np.unique(np.asarray(path, dtype=np.int64), axis=0, return_counts=True)
+    keep = np.argsort(-counts, kind="stable")[: population // 2]
+    return postures[np.sort(keep)]
+
+
 class QDSEGA:
     """The learner on a posture-transition world.
 
@@ -158,11 +167,18 @@ class QDSEGA:
         if self._elite_m is not None and trial.distance_m <= self._elite_m:
             return
         reached = trial.reached_postures(generation.space.postures[0])[1:]
-        postures, counts = np.unique(reached, axis=0, return_counts=True)
-        keep = np.argsort(-counts, kind="stable")[: self.config.genetic.population // 2]
-        self._elite = postures[np.sort(keep)]
+        self._elite = elite_postures(reached, self.config.genetic.population)
         self._elite_m = trial.distance_m
         self._elite_path = reached.copy()
+
+    @property
+    def untried_path(self) -> np.ndarray | None:
+        """The elite path a warm start handed on (:func:`qdsega.training.reconfiguration.
+        warm_state`) while no trial on this body has been verified, shape (k, J); else None.
+        A world that can replay it with exact physics offers its trial to :meth:`verify`."""
+        if self._elite_m is None and len(self._elite_path):
+            return self._elite_path.copy()
+        return None
 
     def explore(
         self, generation: Generation, table: Transitions, rng: np.random.Generator

@@ -26,7 +26,7 @@ from typing import Any
 import numpy as np
 
 from qdsega.agent.genetic import random_population
-from qdsega.agent.learner import LearnerState
+from qdsega.agent.learner import LearnerState, elite_postures
 from qdsega.agent.policy import GreedyPolicy
 from qdsega.agent.space import ExplorationSpace
 from qdsega.atomic import replaced_atomically
@@ -95,7 +95,7 @@ class JointMapping:
     def postures(self, old: np.ndarray, fill: np.ndarray) -> np.ndarray:
         """Old postures (n, J_old) of level indices as new ones (n, J_new): matched joints at
         the nearest level, added joints from ``fill`` (n, J_new) or (J_new,)."""
-        old = np.asarray(old, dtype=np.int64).reshape(len(old), -1)
+        old = np.asarray(old, dtype=np.int64)
         mapped = np.broadcast_to(np.asarray(fill, dtype=np.int64), (len(old), len(self.column)))
         mapped = mapped.copy()
         for k, source in enumerate(self.column):
@@ -138,6 +138,7 @@ class JointMapping:
                 postures=space.postures,
                 next_interior=space.next_interior,
                 q=q,
+                elite_path=_path(source),
                 **names,
             )
 
@@ -163,8 +164,16 @@ class JointMapping:
                 rng_state={},
                 previous=(space, data["q"]),
                 elite=(np.zeros((0, data["population"].shape[1]), dtype=np.int64), None),
+                elite_path=data["elite_path"] if "elite_path" in data.files else None,
             )
         return mapping, state
+
+
+def _path(state: LearnerState) -> np.ndarray:
+    """``state``'s elite path, shape (k, J) (k = 0 when it kept none)."""
+    if state.elite_path is None:
+        return np.zeros((0, state.population.shape[1]), dtype=np.int64)
+    return state.elite_path
 
 
 def describe(joints: dict[str, list[str]]) -> str:
@@ -195,7 +204,11 @@ def warm_state(
     ``carry_q``). :data:`KEPT_SHARE` of the population is drawn (with replacement, so an
     action keeps its weight) from the old population so mapped, the rest at random as a fresh
     run's; the old Q-table is the "previous generation" whose values the first generation
-    starts from; there is no elite yet.
+    starts from. The old run's elite path (its best verified trial's postures), mapped with
+    added joints at their ``start`` level, is the elite, not yet verified on the new body
+    (distance None, :attr:`qdsega.agent.learner.QDSEGA.untried_path`): elitism puts its
+    postures into the first population, self-imitation follows it, and a world with exact
+    physics replays it with the first generation.
 
     Args:
         levels: level count of each new joint, shape (J_new,).
@@ -225,12 +238,14 @@ def warm_state(
         postures=interior,
         next_interior=space.next_interior,
     )
+    path = mapping.postures(_path(source), start)
     return LearnerState(
         completed=0,
         population=mapped,
         rng_state=rng.bit_generator.state,
         previous=(previous, q),
-        elite=(np.zeros((0, len(levels)), dtype=np.int64), None),
+        elite=(elite_postures(path, population), None),
+        elite_path=path,
     )
 
 

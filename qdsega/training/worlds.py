@@ -92,10 +92,15 @@ class TrainingWorld:
         exact trial so far (:meth:`_search`): the trials the learner may verify. A grounded
         table learns their moves, and those of ``explore`` trials of the generation's policy
         at the Boltzmann temperature and, with ``optimism``, of the greedy policy ``learner``
-        learns on the table's upper bound; the greedy replay is observed last."""
+        learns on the table's upper bound; the greedy replay is observed last. A path a warm
+        start handed on and no trial has verified yet (``learner.untried_path``) is replayed
+        open loop too, offered to the search as a parent and to the learner, after the greedy
+        replay."""
         if self.exact is None:
             return [generation.greedy]
-        policies: list[Policy] = [generation.policy]
+        untried = learner.untried_path
+        carried = [] if untried is None else [SequencePolicy(commands=untried)]
+        policies: list[Policy] = [*carried, generation.policy]
         if self.grounded is not None:  # exploring trials first: the greedy one is seen last
             trials, temperature = self.explore
             if self.optimism > 0:
@@ -115,19 +120,21 @@ class TrainingWorld:
             ] + policies
         outcomes = self.exact.rollouts(policies, steps=self.task.trial_steps)
         greedy = outcomes[-1]
-        searched = self._search(generation.index, learner.levels, greedy)
+        replayed = [greedy, *outcomes[len(outcomes) - 1 - len(carried) : -1]]
+        searched = self._search(generation.index, learner.levels, replayed)
         if self.grounded is not None:
             for trial in [*outcomes[:-1], *searched, greedy]:
                 self.grounded.observe(trial, generation.space.postures[0])
-        return [greedy, *searched]
+        return [*replayed, *searched]
 
-    def _search(self, index: int, levels: np.ndarray, greedy: Rollout) -> list[Rollout]:
+    def _search(self, index: int, levels: np.ndarray, replayed: list[Rollout]) -> list[Rollout]:
         """A (1 + ``local_search``) evolution strategy in exact physics: the parent is the best
-        trial so far among greedy replays and earlier neighbours; its neighbours are replayed
-        open loop (:class:`qdsega.agent.policy.SequencePolicy`)."""
+        trial so far among ``replayed`` trials and earlier neighbours; its neighbours are
+        replayed open loop (:class:`qdsega.agent.policy.SequencePolicy`)."""
         if self.local_search == 0 or self.exact is None:
             return []
-        self._keep_best(greedy)
+        for trial in replayed:
+            self._keep_best(trial)
         assert self._best is not None
         rng = np.random.default_rng([self.seed, index, _SEARCH_STREAM])
         neighbours = [

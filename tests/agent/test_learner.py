@@ -136,3 +136,15 @@ def test_an_action_new_to_a_carried_state_starts_at_zero_or_at_the_states_best(n
                 assert np.array_equal(
                     start[i, :, a], best if new_action_q == "row_best" else 0 * best
                 )
+
+
+def test_a_handed_on_path_is_untried_until_a_trial_is_verified():
+    learner, _ = _learner(3, 2, 100)
+    assert learner.untried_path is None  # a fresh learner has no path
+    path = np.array([[0, 1] * 4, [1, 0] * 4, [0, 1] * 4])
+    state = replace(learner.state(), elite=(path[:2], None), elite_path=path)
+    learner.restore(state)
+    assert np.array_equal(learner.untried_path, path)
+    generation = learner.step()
+    learner.verify(generation, generation.greedy)
+    assert learner.untried_path is None

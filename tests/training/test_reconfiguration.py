@@ -114,7 +114,8 @@ def test_a_warm_state_keeps_half_the_mapped_population_and_its_table(old, new):
         population=population,
         rng_state={},
         previous=(space, q),
-        elite=(population[:1], 1.5),
+        elite=(population[:2], 1.5),
+        elite_path=np.array([[2, 1, 0], [0, 0, 0], [2, 1, 0]]),
     )
     mapping = JointMapping.between(old, new)
     levels = np.array([len(j.levels_rad) for j in new.joints])
@@ -122,7 +123,10 @@ def test_a_warm_state_keeps_half_the_mapped_population_and_its_table(old, new):
     state = warm_state(
         mapping, source, levels=levels, start=start, population=4, rng=np.random.default_rng(0)
     )
-    assert state.completed == 0 and state.elite[1] is None and len(state.elite[0]) == 0
+    # the old elite path, mapped with added joints at the start level, is the elite, untried
+    assert state.completed == 0 and state.elite[1] is None
+    assert state.elite_path.tolist() == [[2, 1, 0], [0, 1, 0], [2, 1, 0]]
+    assert state.elite[0].tolist() == [[0, 1, 0], [2, 1, 0]]
     mapped, carried = state.previous
     kept = state.population[:2]  # KEPT_SHARE of 4: drawn from the mapped old population
     assert all(row.tolist() in mapped.actions.tolist() for row in kept)
@@ -154,10 +158,12 @@ def test_the_mapping_and_its_source_round_trip(old, new, tmp_path):
         rng_state={},
         previous=(space, np.ones((space.n_interior * 4, space.n_actions))),
         elite=(np.zeros((0, 3), dtype=np.int64), None),
+        elite_path=np.array([[2, 1, 0]]),
     )
     mapping = JointMapping.between(old, new)
     mapping.save(tmp_path / "warm.npz", source)
     loaded, state = JointMapping.load(tmp_path / "warm.npz")
+    assert state.elite_path.tolist() == [[2, 1, 0]]
     assert loaded.report() == mapping.report()
     assert np.array_equal(loaded.levels, mapping.levels)
     assert np.array_equal(state.population, population)

@@ -48,8 +48,10 @@ def _generation(index: int) -> SimpleNamespace:
     return SimpleNamespace(index=index, policy=SequencePolicy(commands=start_gait))
 
 
-def _climb(world: TrainingWorld, generations: range) -> list[list[Rollout]]:
-    learner = SimpleNamespace(levels=LEVELS)
+def _climb(
+    world: TrainingWorld, generations: range, untried: np.ndarray | None = None
+) -> list[list[Rollout]]:
+    learner = SimpleNamespace(levels=LEVELS, untried_path=untried)
     return [world.replay(_generation(g), learner) for g in generations]  # type: ignore[arg-type]
 
 
@@ -75,3 +77,15 @@ def test_no_local_search_replays_the_greedy_policy_only():
     world = _world(local_search=0)
     (trials,) = _climb(world, range(1, 2))
     assert len(trials) == 1 and world.exact.trials == 1 and world.state() == {}
+
+
+def test_an_untried_path_is_replayed_after_the_greedy_one_and_becomes_the_parent():
+    world = _world(local_search=2)
+    path = np.array([[8, 0, 0], [7, 1, 1]])  # 0.75 m, beyond the greedy gait's 0.25 m
+    (trials,) = _climb(world, range(1, 2), untried=path)
+    assert len(trials) == 4 and world.exact.trials == 4  # greedy, the path, 2 neighbours
+    assert trials[0].distance_m == 0.25 and trials[1].distance_m == 0.75
+    assert np.array_equal(trials[1].postures[:2], path)
+    # the neighbours vary the path (one character of one posture), not the greedy gait
+    assert all((t.postures[:2] != path).sum() <= 1 for t in trials[2:])
+    assert world.state()["search_distance_m"][0] >= 0.75
