@@ -159,14 +159,15 @@ class QDSEGA:
             self.population = reproduce(self.population, weights, self.levels, genetic, self.rng)
         return generation
 
-    def verify(self, generation: Generation, trial: Rollout) -> None:
-        """Tell the learner how ``generation``'s greedy policy walked when verified (with exact
-        physics where it learns on a table). The best such trial so far is the elite: with
+    def verify(self, trial: Rollout) -> None:
+        """Tell the learner how a trial from its world's start posture walked when verified
+        (with exact physics where it learns on a table): a generation's greedy policy, a local
+        search's gait, a warm start's path. The best such trial so far is the elite: with
         ``genetic.elitism`` every later population that lost one of its postures gets it back
         (the most used first, at most half the population)."""
         if self._elite_m is not None and trial.distance_m <= self._elite_m:
             return
-        reached = trial.reached_postures(generation.space.postures[0])[1:]
+        reached = trial.reached_postures(self.world.start_posture())[1:]
         self._elite = elite_postures(reached, self.config.genetic.population)
         self._elite_m = trial.distance_m
         self._elite_path = reached.copy()
@@ -175,7 +176,8 @@ class QDSEGA:
     def untried_path(self) -> np.ndarray | None:
         """The elite path a warm start handed on (:func:`qdsega.training.reconfiguration.
         warm_state`) while no trial on this body has been verified, shape (k, J); else None.
-        A world that can replay it with exact physics offers its trial to :meth:`verify`."""
+        A world that can replay it with exact physics does so before the first generation
+        (:meth:`qdsega.training.worlds.TrainingWorld.verify_untried`)."""
         if self._elite_m is None and len(self._elite_path):
             return self._elite_path.copy()
         return None

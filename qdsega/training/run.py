@@ -335,11 +335,13 @@ def _run(
             progress.start(completed=resumed_at, generations=config.agent.genetic.generations)
         with InterruptWatch() as watch:
             try:
-                for generation in learner.run():
+                while learner.completed < config.agent.genetic.generations:
+                    world.verify_untried(learner)
+                    generation = learner.step()
                     trials = world.replay(generation, learner)
                     exact = trials[0]  # the greedy replay
                     for trial in trials:
-                        learner.verify(generation, trial)
+                        learner.verify(trial)
                     elapsed = first_elapsed + time.perf_counter() - session_start
                     sim_steps = simulated + world.simulated_steps()
                     checkpoint = _advance(

@@ -92,15 +92,10 @@ class TrainingWorld:
         exact trial so far (:meth:`_search`): the trials the learner may verify. A grounded
         table learns their moves, and those of ``explore`` trials of the generation's policy
         at the Boltzmann temperature and, with ``optimism``, of the greedy policy ``learner``
-        learns on the table's upper bound; the greedy replay is observed last. A path a warm
-        start handed on and no trial has verified yet (``learner.untried_path``) is replayed
-        open loop too, offered to the search as a parent and to the learner, after the greedy
-        replay."""
+        learns on the table's upper bound; the greedy replay is observed last."""
         if self.exact is None:
             return [generation.greedy]
-        untried = learner.untried_path
-        carried = [] if untried is None else [SequencePolicy(commands=untried)]
-        policies: list[Policy] = [*carried, generation.policy]
+        policies: list[Policy] = [generation.policy]
         if self.grounded is not None:  # exploring trials first: the greedy one is seen last
             trials, temperature = self.explore
             if self.optimism > 0:
@@ -120,21 +115,34 @@ class TrainingWorld:
             ] + policies
         outcomes = self.exact.rollouts(policies, steps=self.task.trial_steps)
         greedy = outcomes[-1]
-        replayed = [greedy, *outcomes[len(outcomes) - 1 - len(carried) : -1]]
-        searched = self._search(generation.index, learner.levels, replayed)
+        searched = self._search(generation.index, learner.levels, greedy)
         if self.grounded is not None:
             for trial in [*outcomes[:-1], *searched, greedy]:
                 self.grounded.observe(trial, generation.space.postures[0])
-        return [*replayed, *searched]
+        return [greedy, *searched]
 
-    def _search(self, index: int, levels: np.ndarray, replayed: list[Rollout]) -> list[Rollout]:
+    def verify_untried(self, learner: QDSEGA) -> None:
+        """Before a generation learns: replay the path a warm start handed on and no trial
+        has verified yet (``learner.untried_path``) open loop with exact physics; a grounded
+        table learns its moves, the local search may take it as its parent, and the learner
+        verifies it (so the generation imitates and keeps it knowing what it is worth).
+        Nothing without such a path or without exact physics."""
+        path = learner.untried_path
+        if path is None or self.exact is None:
+            return
+        (trial,) = self.exact.rollouts([SequencePolicy(commands=path)], steps=self.task.trial_steps)
+        if self.grounded is not None:
+            self.grounded.observe(trial, learner.world.start_posture())
+        self._keep_best(trial)
+        learner.verify(trial)
+
+    def _search(self, index: int, levels: np.ndarray, greedy: Rollout) -> list[Rollout]:
         """A (1 + ``local_search``) evolution strategy in exact physics: the parent is the best
-        trial so far among ``replayed`` trials and earlier neighbours; its neighbours are
-        replayed open loop (:class:`qdsega.agent.policy.SequencePolicy`)."""
+        trial so far among greedy replays and earlier neighbours; its neighbours are replayed
+        open loop (:class:`qdsega.agent.policy.SequencePolicy`)."""
         if self.local_search == 0 or self.exact is None:
             return []
-        for trial in replayed:
-            self._keep_best(trial)
+        self._keep_best(greedy)
         assert self._best is not None
         rng = np.random.default_rng([self.seed, index, _SEARCH_STREAM])
         neighbours = [

@@ -99,7 +99,7 @@ def test_a_learner_that_imitates_walks_the_elite_it_could_not_find(imitate_elite
     first = learner.step()
     elite = _optimum_trial(world, task)
     assert first.greedy.distance_m < 0.5 * elite.distance_m  # one learning trial finds nothing
-    learner.verify(first, elite)
+    learner.verify(elite)
     second = learner.step()
     if imitate_elite:  # the witness ends off its cycle, which a greedy policy cannot follow
         assert second.greedy.distance_m >= 0.95 * elite.distance_m
@@ -109,9 +109,9 @@ def test_a_learner_that_imitates_walks_the_elite_it_could_not_find(imitate_elite
 
 def test_the_elite_path_is_kept_in_the_learner_state():
     learner, world, task = _msm_learner(True)
-    first = learner.step()
+    learner.step()
     elite = _optimum_trial(world, task)
-    learner.verify(first, elite)
+    learner.verify(elite)
     saved = learner.state()
     assert np.array_equal(saved.elite_path, elite.postures)
     other, _, _ = _msm_learner(True)

@@ -146,5 +146,5 @@ def test_a_handed_on_path_is_untried_until_a_trial_is_verified():
     learner.restore(state)
     assert np.array_equal(learner.untried_path, path)
     generation = learner.step()
-    learner.verify(generation, generation.greedy)
+    learner.verify(generation.greedy)
     assert learner.untried_path is None

@@ -48,10 +48,8 @@ def _generation(index: int) -> SimpleNamespace:
     return SimpleNamespace(index=index, policy=SequencePolicy(commands=start_gait))
 
 
-def _climb(
-    world: TrainingWorld, generations: range, untried: np.ndarray | None = None
-) -> list[list[Rollout]]:
-    learner = SimpleNamespace(levels=LEVELS, untried_path=untried)
+def _climb(world: TrainingWorld, generations: range) -> list[list[Rollout]]:
+    learner = SimpleNamespace(levels=LEVELS)
     return [world.replay(_generation(g), learner) for g in generations]  # type: ignore[arg-type]
 
 
@@ -79,13 +77,23 @@ def test_no_local_search_replays_the_greedy_policy_only():
     assert len(trials) == 1 and world.exact.trials == 1 and world.state() == {}
 
 
-def test_an_untried_path_is_replayed_after_the_greedy_one_and_becomes_the_parent():
+def test_an_untried_path_is_verified_first_and_becomes_the_search_parent():
     world = _world(local_search=2)
     path = np.array([[8, 0, 0], [7, 1, 1]])  # 0.75 m, beyond the greedy gait's 0.25 m
-    (trials,) = _climb(world, range(1, 2), untried=path)
-    assert len(trials) == 4 and world.exact.trials == 4  # greedy, the path, 2 neighbours
-    assert trials[0].distance_m == 0.25 and trials[1].distance_m == 0.75
-    assert np.array_equal(trials[1].postures[:2], path)
-    # the neighbours vary the path (one character of one posture), not the greedy gait
-    assert all((t.postures[:2] != path).sum() <= 1 for t in trials[2:])
+    verified: list[Rollout] = []
+    learner = SimpleNamespace(
+        levels=LEVELS,
+        untried_path=path,
+        world=SimpleNamespace(start_posture=lambda: np.zeros(3, dtype=np.int64)),
+        verify=verified.append,
+    )
+    world.verify_untried(learner)  # type: ignore[arg-type]
+    assert world.exact.trials == 1 and [t.distance_m for t in verified] == [0.75]
+    assert np.array_equal(verified[0].postures[:2], path)
+    trials = world.replay(_generation(1), learner)  # type: ignore[arg-type]
+    assert trials[0].distance_m == 0.25  # the greedy replay, then neighbours of the path
+    assert all((t.postures[:2] != path).sum() <= 1 for t in trials[1:])
     assert world.state()["search_distance_m"][0] >= 0.75
+    learner.untried_path = None
+    world.verify_untried(learner)  # type: ignore[arg-type]
+    assert world.exact.trials == 4  # nothing more to verify
