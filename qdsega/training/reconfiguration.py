@@ -12,9 +12,9 @@ versions of its formation, so the joints of two formations are matched by name
   holds it at its rest level; a warm-started learner draws its characters at random.
 
 Two uses: a trained policy replayed on another body (:meth:`JointMapping.policy`, ``qdsega
-evaluate RUN --formation OTHER``) and a learner that starts from a finished run's population
-and Q-table instead of from scratch (:func:`warm_state`, ``qdsega train OTHER --warm-start
-RUN``).
+evaluate RUN --formation OTHER``) and a learner that starts from a finished run's population,
+Q-table and best verified path instead of from scratch (:func:`warm_state`, ``qdsega train
+OTHER --warm-start RUN``).
 """
 
 from __future__ import annotations
@@ -207,8 +207,9 @@ def warm_state(
     starts from. The old run's elite path (its best verified trial's postures), mapped with
     added joints at their ``start`` level, is the elite, not yet verified on the new body
     (distance None, :attr:`qdsega.agent.learner.QDSEGA.untried_path`): elitism puts its
-    postures into the first population, self-imitation follows it, and a world with exact
-    physics replays it with the first generation.
+    postures into the first population, and a world with exact physics verifies it before
+    the first generation learns (:meth:`qdsega.training.worlds.TrainingWorld.verify_untried`),
+    which then imitates it (``imitate_elite``) and searches from it (``local_search``).
 
     Args:
         levels: level count of each new joint, shape (J_new,).
