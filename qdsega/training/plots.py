@@ -127,7 +127,7 @@ def _learning_curve(
     """Each generation's greedy policy with exact physics (and, where the learner's world is a
     measured table, the table's prediction), against the optimum (MSM) or the reference; for a
     warm-started run, against a fresh run's exact curve and 0.9 of its result (its farthest
-    exact generation)."""
+    exact generation), with the verified distance of the path it was handed at generation 0."""
     generation = metrics["generation"]
     fig, ax = plt.subplots(figsize=(7, 3.6))
     exact = "MSM" if summary["sim"] == "msm" else "PyBullet, every step simulated"
@@ -140,6 +140,14 @@ def _learning_curve(
         markersize=3,
         label=f"greedy policy ({exact}){started}",
     )
+    if warm is not None and warm.get("handed_on_m") is not None:
+        ax.plot(
+            [0],
+            [warm["handed_on_m"]],
+            "D",
+            color="tab:blue",
+            label="the old run's best path on this body (generation 0: before learning)",
+        )
     if fresh is not None:
         folder, other = fresh
         ax.plot(

@@ -131,6 +131,10 @@ def _warm_start(record: dict[str, Any] | None) -> list[str]:
         "its policy on its own body, exact physics (m)": record["distance_m"],
         "joints": describe(record["joints"]),
     }
+    if record.get("handed_on_m") is not None:
+        shown["its best path on this body, exact physics, before generation 1 (m)"] = record[
+            "handed_on_m"
+        ]
     return ["<h2>Warm start</h2>", _table(shown)]
 
 

@@ -9,8 +9,9 @@ The run folder holds:
 * ``train.lock``: locked while a ``qdsega train`` writes the folder
   (:mod:`qdsega.training.run_lock`);
 * ``warm_start.json`` and ``warm_start.npz`` (a warm-started run, ``--warm-start RUN``): where
-  the run started from (the source run, its formation, seed and distance, how joints matched)
-  and what it starts from (the joint mapping, the source's last population and Q-table,
+  the run started from (the source run, its formation, seed and distance, how joints matched;
+  in memo mode, once verified, ``handed_on_m``: its best path on this body) and what it starts
+  from (the joint mapping, the source's last population, Q-table and best path,
   :mod:`qdsega.training.reconfiguration`); written with ``config.yaml``, so the run needs the
   source run no more;
 * ``checkpoint.npz``: where the run stands after its last finished generation
@@ -336,7 +337,9 @@ def _run(
         with InterruptWatch() as watch:
             try:
                 while learner.completed < config.agent.genetic.generations:
-                    world.verify_untried(learner)
+                    handed_on = world.verify_untried(learner)
+                    if handed_on is not None:
+                        _record_handed_on(out, handed_on.distance_m)
                     generation = learner.step()
                     trials = world.replay(generation, learner)
                     exact = trials[0]  # the greedy replay
@@ -530,6 +533,16 @@ def _read_warm_record(run: Path) -> dict[str, Any] | None:
     """``warm_start.json`` of a warm-started run, else None."""
     file = run / WARM_START_FILE
     return json.loads(file.read_text(encoding="utf-8")) if file.is_file() else None
+
+
+def _record_handed_on(run: Path, distance_m: float) -> None:
+    """Add to ``warm_start.json`` how far the handed-on path walked on this body with
+    exact physics (``handed_on_m``, m), verified before the first generation."""
+    record = _read_warm_record(run)
+    assert record is not None, "only a warm start hands a path on"
+    record["handed_on_m"] = distance_m
+    with replaced_atomically(run / WARM_START_FILE) as partial:
+        partial.write_text(json.dumps(record, indent=2) + "\n", encoding="utf-8")
 
 
 def _relative_error(predicted: float, exact: float) -> float | None:

@@ -121,20 +121,22 @@ class TrainingWorld:
                 self.grounded.observe(trial, generation.space.postures[0])
         return [greedy, *searched]
 
-    def verify_untried(self, learner: QDSEGA) -> None:
+    def verify_untried(self, learner: QDSEGA) -> Rollout | None:
         """Before a generation learns: replay the path a warm start handed on and no trial
         has verified yet (``learner.untried_path``) open loop with exact physics; a grounded
         table learns its moves, the local search may take it as its parent, and the learner
         verifies it (so the generation imitates and keeps it knowing what it is worth).
-        Nothing without such a path or without exact physics."""
+        Returns that trial; None (and nothing done) without such a path or without exact
+        physics."""
         path = learner.untried_path
         if path is None or self.exact is None:
-            return
+            return None
         (trial,) = self.exact.rollouts([SequencePolicy(commands=path)], steps=self.task.trial_steps)
         if self.grounded is not None:
             self.grounded.observe(trial, learner.world.start_posture())
         self._keep_best(trial)
         learner.verify(trial)
+        return trial
 
     def _search(self, index: int, levels: np.ndarray, greedy: Rollout) -> list[Rollout]:
         """A (1 + ``local_search``) evolution strategy in exact physics: the parent is the best
