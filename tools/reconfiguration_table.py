@@ -12,7 +12,8 @@ run of the changed body ``OUT/fresh/NEW-seedS`` and one warm-started from the ol
 resumed. Then the table, printed and written to ``OUT/table.md``: per seed, the old policy's
 exact distance on the changed body, the fresh run's result F (its farthest exact generation),
 and the generations (and simulated steps: memo transitions measured and exact trials'
-commands) each run needs until its greedy policy covers 0.9 F with exact physics.
+commands) each run needs until its greedy policy covers 0.9 F with exact physics: 0 for a
+warm run whose handed-on path already covers it when verified, before it learns at all.
 """
 
 from __future__ import annotations
@@ -41,6 +42,7 @@ COLUMNS = (
     "old policy on the new body (m)",
     "fresh final F (m)",
     "fresh: generations (steps) to 0.9 F",
+    "warm: handed-on path verified (m)",
     "warm: first generation (m)",
     "warm: generations (steps) to 0.9 F",
     "warm / fresh generations",
@@ -74,12 +76,27 @@ class Change:
 
 def reach(run: Path, target_m: float) -> tuple[int | None, int | None]:
     """The first generation whose greedy policy covers ``target_m`` with exact physics, and
-    the run's simulated steps by its end; (None, None) when no generation does."""
+    the run's simulated steps by its end; generation 0 (and the commands of that one trial)
+    for a warm run whose handed-on path, verified before generation 1 (``handed_on_m`` in
+    ``warm_start.json``), already covers it; (None, None) when no generation does."""
+    warm = run / "warm_start.json"
+    if warm.is_file():
+        record = json.loads(warm.read_text(encoding="utf-8"))
+        if record.get("handed_on_m", -1.0) >= target_m:
+            return 0, int(record["handed_on_steps"])
     with (run / "metrics.csv").open(encoding="utf-8") as stream:
         for row in csv.DictReader(stream):
             if float(row["greedy_exact_m"]) >= target_m:
                 return int(row["generation"]), int(row["sim_steps"])
     return None, None
+
+
+def handed_on(run: Path) -> str:
+    """How far a warm run's handed-on path walked when verified (m), or why it is unknown."""
+    record = json.loads((run / "warm_start.json").read_text(encoding="utf-8"))
+    if "handed_on_m" not in record:
+        return "not recorded"
+    return f"{record['handed_on_m']:.3f}"
 
 
 def first_exact(run: Path) -> float:
@@ -131,7 +148,8 @@ def main() -> None:
             found.append(Change(moved, final["distance_m"], fresh_reach, warm_reach, share))
             rows.append([
                 what, str(seed), f"{moved:.3f}", f"{final['distance_m']:.3f}",
-                _count(*fresh_reach), f"{first_exact(warm):.3f}", _count(*warm_reach),
+                _count(*fresh_reach), handed_on(warm), f"{first_exact(warm):.3f}",
+                _count(*warm_reach),
                 "" if share is None else f"{share:.2f}", f"{warm_final['distance_m']:.3f}",
             ])  # fmt: skip
         aggregates.append(_aggregate(what, found))

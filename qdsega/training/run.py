@@ -339,7 +339,7 @@ def _run(
                 while learner.completed < config.agent.genetic.generations:
                     handed_on = world.verify_untried(learner)
                     if handed_on is not None:
-                        _record_handed_on(out, handed_on.distance_m)
+                        _record_handed_on(out, handed_on)
                     generation = learner.step()
                     trials = world.replay(generation, learner)
                     exact = trials[0]  # the greedy replay
@@ -535,12 +535,14 @@ def _read_warm_record(run: Path) -> dict[str, Any] | None:
     return json.loads(file.read_text(encoding="utf-8")) if file.is_file() else None
 
 
-def _record_handed_on(run: Path, distance_m: float) -> None:
+def _record_handed_on(run: Path, trial: Rollout) -> None:
     """Add to ``warm_start.json`` how far the handed-on path walked on this body with
-    exact physics (``handed_on_m``, m), verified before the first generation."""
+    exact physics (``handed_on_m``, m), verified before the first generation, and the
+    commands that took (``handed_on_steps``: its simulated steps)."""
     record = _read_warm_record(run)
     assert record is not None, "only a warm start hands a path on"
-    record["handed_on_m"] = distance_m
+    record["handed_on_m"] = trial.distance_m
+    record["handed_on_steps"] = len(trial.postures)
     with replaced_atomically(run / WARM_START_FILE) as partial:
         partial.write_text(json.dumps(record, indent=2) + "\n", encoding="utf-8")
 

@@ -145,7 +145,9 @@ def test_a_snake_policy_on_a_longer_snake_then_a_warm_start_in_memo_mode(tmp_pat
     report = (warm / "report.html").read_text()
     assert "<h2>Warm start</h2>" in report
     # the handed-on path, verified before generation 1, is recorded and reported
-    handed_on = json.loads((warm / "warm_start.json").read_text())["handed_on_m"]
+    record = json.loads((warm / "warm_start.json").read_text())
+    handed_on = record["handed_on_m"]
     assert isinstance(handed_on, float) and "its best path on this body" in report
+    assert 1 <= record["handed_on_steps"] <= 6  # the commands of one trial (the task's 6 at most)
     assert json.loads((warm / "summary.json").read_text())["warm_start"]["handed_on_m"] == handed_on
     assert "This policy on other bodies" in (source / "report.html").read_text()
