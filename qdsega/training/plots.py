@@ -129,7 +129,7 @@ def _learning_curve(
     warm-started run, against a fresh run's exact curve and 0.9 of its result (its farthest
     exact generation), with the verified distance of the path it was handed at generation 0."""
     generation = metrics["generation"]
-    fig, ax = plt.subplots(figsize=(7, 3.6))
+    fig, ax = plt.subplots(figsize=(7, 5.2))
     exact = "MSM" if summary["sim"] == "msm" else "PyBullet, every step simulated"
     warm = summary.get("warm_start")
     started = "" if warm is None else f", warm-started from {warm['formation']}"
@@ -187,7 +187,8 @@ def _learning_curve(
     ax.xaxis.set_major_locator(MaxNLocator(integer=True))
     ax.set_ylabel("distance toward the light (m)")
     ax.set_title(f"{summary['formation']}: learning curve")
-    ax.legend(fontsize=8, loc="lower right")
+    # Below the axes: inside, it hid the curves and the 0.9 line (the figure grows to fit).
+    ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(0, -0.16))
     ax.grid(alpha=0.3)
     return _save(fig, path)
 
