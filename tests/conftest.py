@@ -10,7 +10,7 @@ from pathlib import Path
 
 import pytest
 
-from qdsega import UNITS_DIR
+from qdsega.description.shipped import UNITS_DIR
 
 
 @pytest.fixture

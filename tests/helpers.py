@@ -14,7 +14,7 @@ from pathlib import Path
 
 import numpy as np
 
-from qdsega import ASSEMBLIES_DIR, UNITS_DIR
+from qdsega.description.shipped import ASSEMBLIES_DIR, UNITS_DIR
 
 SHIPPED_FORMATIONS = sorted(ASSEMBLIES_DIR.glob("*.yaml"))
 SHIPPED_UNITS = sorted(p for p in UNITS_DIR.iterdir() if p.is_dir() and p.name != "__pycache__")

@@ -81,7 +81,11 @@ def test_wheel_installs_and_runs_outside_the_checkout(tmp_path):
     _run(python, "-m", "pip", "install", "--no-deps", "--no-index", "--ignore-installed",
          "--quiet", wheel, cwd=elsewhere)  # fmt: skip
     found = _run(
-        python, "-c", "import qdsega; print(qdsega.__file__, qdsega.UNITS_DIR)", cwd=elsewhere
+        python,
+        "-c",
+        "import qdsega; from qdsega.description.shipped import UNITS_DIR; "
+        "print(qdsega.__file__, UNITS_DIR)",
+        cwd=elsewhere,
     )
     module, units = found.stdout.split()
     assert Path(module).is_relative_to(tmp_path / "env") and Path(units).is_relative_to(

@@ -9,8 +9,9 @@ from pathlib import Path
 import numpy as np
 import trimesh
 
-from qdsega.description.limits import POSITION_M, ROTATION_RAD, SIZE_M, Interval
+from qdsega.description.limits import POSITION_M, ROTATION_RAD, SIZE_M
 from qdsega.errors import FormationError
+from qdsega.yaml_reader import Interval
 
 
 @dataclass(frozen=True)

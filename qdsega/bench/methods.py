@@ -9,7 +9,7 @@
 * ``ga-sequence``: a GA over whole posture sequences, fitness the distance of one trial.
 * ``random-search``: uniformly random posture sequences, the best one kept.
 * ``cma-cpg``: CMA-ES over a CPG gait's parameters
-  (:func:`qdsega.training.reference_search.search_cpg`, the reference search as a learner).
+  (:func:`qdsega.baselines.reference_search.search_cpg`, the reference search as a learner).
 * ``ppo``: :mod:`qdsega.bench.ppo`.
 
 The sequence methods play one trial per candidate in the task's arena; their answer is the best
@@ -25,12 +25,12 @@ from typing import Any
 
 import numpy as np
 
+from qdsega.baselines.reference_search import search_cpg
 from qdsega.bench.arena import Arena
 from qdsega.bench.curve import Curve
 from qdsega.bench.tasks import BenchTask
 from qdsega.description import resolve_formation
 from qdsega.locomotion.env import Replay
-from qdsega.training.reference_search import search_cpg
 from qdsega.training.run import METRIC_COLUMNS, resume, train
 from qdsega.training.run_folder import SUMMARY_FILE
 
@@ -81,7 +81,7 @@ def _qdsega(
             train(resolve_formation(task.formation), config, run, overwrite=True)
     metrics = np.loadtxt(run / "metrics.csv", delimiter=",", skiprows=1, ndmin=2)
     column = {name: metrics[:, k] for k, name in enumerate(METRIC_COLUMNS)}
-    steps = np.cumsum(column["steps"]) if task.world == "msm" else column["sim_steps"]
+    steps = np.cumsum(column["steps"]) if task.sim == "msm" else column["sim_steps"]
     return Curve(steps.astype(np.int64), column["greedy_exact_m"], np.cumsum(column["wall_s"]))
 
 
@@ -125,7 +125,7 @@ def random_search(task: BenchTask, seed: int, folder: Path) -> Curve:
     rng, levels, steps = np.random.default_rng(seed), _levels(task), task.rules().trial_steps
     arena = task.arena()
     best = _Best(arena)
-    batch = max(1, BATCH_STEPS[task.world] // steps)
+    batch = max(1, BATCH_STEPS[task.sim] // steps)
     try:
         while arena.commands < task.budget_steps:
             size = (_within(task, arena, batch, steps), steps, len(levels))
@@ -142,7 +142,7 @@ def ga_sequence(task: BenchTask, seed: int, folder: Path) -> Curve:
     arena = task.arena()
     best = _Best(arena)
     rate = min(1.0, GA_MUTATIONS / (steps * len(levels)))
-    size = GA_POPULATION[task.world]
+    size = GA_POPULATION[task.sim]
     population = rng.integers(0, levels, size=(size, steps, len(levels)))
     try:
         while arena.commands < task.budget_steps:

@@ -1,6 +1,6 @@
 """PPO from stable-baselines3 on the table world's Gymnasium environment.
 
-PPO learns in ``qdsega/TableLocomotion-v0`` (:mod:`qdsega.training.table_env`): the MSM, or for
+PPO learns in ``qdsega/TableLocomotion-v0`` (:mod:`qdsega.locomotion.table_env`): the MSM, or for
 a PyBullet task the memo table, each pair measured in PyBullet on first use, so PPO runs at
 table speed where QDSEGA does and spends the same budget (MSM steps; PyBullet steps measured).
 Its hyperparameters are stable-baselines3's defaults but for ``n_steps``, the rollout length,
@@ -20,8 +20,8 @@ import gymnasium as gym
 import numpy as np
 
 from qdsega.bench.curve import Curve
-from qdsega.bench.tasks import WORLDS, BenchTask
-from qdsega.training.table_env import TableLocomotionEnv
+from qdsega.bench.tasks import LEARNING_SIM, BenchTask
+from qdsega.locomotion.table_env import TableLocomotionEnv
 
 ENVS = {"msm": 16, "pybullet": 1}
 """Environments PPO steps side by side per world: in the MSM 16, so that each policy call
@@ -56,9 +56,9 @@ def ppo_curve(task: BenchTask, seed: int) -> Curve:
     formation, config = task.load(), task.config(seed=seed)
     envs = [
         TableLocomotionEnv(
-            formation=formation, world=WORLDS[task.world], task=config.task, msm=config.msm
+            formation=formation, sim=LEARNING_SIM[task.sim], task=config.task, msm=config.msm
         )
-        for _ in range(ENVS[task.world])
+        for _ in range(ENVS[task.sim])
     ]
     vector = DummyVecEnv([lambda env=env: env for env in envs])
     judge = _exact_env(task)
@@ -66,7 +66,7 @@ def ppo_curve(task: BenchTask, seed: int) -> Curve:
     points: list[tuple[int, float, float]] = []
 
     def spent() -> int:
-        if task.world == "msm":
+        if task.sim == "msm":
             return model.num_timesteps
         return int(envs[0].provider.measured)  # type: ignore[attr-defined]
 
@@ -78,7 +78,7 @@ def ppo_curve(task: BenchTask, seed: int) -> Curve:
         def _on_step(self) -> bool:
             return spent() < task.budget_steps
 
-    rollout = min(ROLLOUT_STEPS[task.world], task.ppo_steps)
+    rollout = min(ROLLOUT_STEPS[task.sim], task.ppo_steps)
     n_steps = max(rollout // len(envs), 2)
     batch = min(BATCH, n_steps * len(envs))
     model = PPO(
@@ -96,9 +96,9 @@ def ppo_curve(task: BenchTask, seed: int) -> Curve:
 def _exact_env(task: BenchTask) -> gym.Env[np.ndarray, np.ndarray]:
     """Where PPO's policy is scored: the MSM itself, or exact PyBullet."""
     formation, config = task.load(), task.config(seed=0)
-    if task.world == "msm":
+    if task.sim == "msm":
         return TableLocomotionEnv(
-            formation=formation, world="msm", task=config.task, msm=config.msm
+            formation=formation, sim="msm", task=config.task, msm=config.msm
         )
     from qdsega.locomotion.env import LocomotionEnv  # starts PyBullet: only here
 

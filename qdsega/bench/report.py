@@ -103,7 +103,7 @@ def _task_section(
     lines = [
         f"## {task.name}",
         "",
-        f"{task.formation} in the {'MSM' if task.world == 'msm' else 'PyBullet world'}; "
+        f"{task.formation} in the {'MSM' if task.sim == 'msm' else 'PyBullet world'}; "
         f"yardstick: {yardstick_name}, {yardstick:.3f} m; {task.seeds} seeds per method; "
         f"budget {_count(task.budget_steps)} steps. {task.forced}",
         "",

@@ -5,7 +5,7 @@ budget; with the yardstick each method's distance is measured against.
   steps and the yardstick is the model's exact optimum (:func:`qdsega.msm.msm_optimum`).
 * ``snake5-pybullet``: snake5 in PyBullet; a step is an upper-agent step simulated in PyBullet
   (a memo transition measured, or a command of an exact trial), and the yardstick is the
-  shipped CMA-ES reference gait (:func:`qdsega.training.reference_search.reference_gait`,
+  shipped CMA-ES reference gait (:func:`qdsega.baselines.reference_search.reference_gait`,
   600 trials): not an optimum, the best gait known.
 
 Every task uses its formation's README preset (:func:`qdsega.training.config.default_preset`)
@@ -23,9 +23,9 @@ from qdsega.msm import LegLayout, MinimalSimulationModel, msm_optimum
 from qdsega.task import Task
 from qdsega.training.config import TrainingConfig, default_preset, resolve_config
 
-WORLDS = {"msm": "msm", "pybullet": "memo"}
+LEARNING_SIM = {"msm": "msm", "pybullet": "memo"}
 """A task's world -> the table world its learners learn in (``qdsega train --sim``, and
-:class:`qdsega.training.table_env.TableLocomotionEnv`)."""
+:class:`qdsega.locomotion.table_env.TableLocomotionEnv`)."""
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -35,7 +35,7 @@ class BenchTask:
     Attributes:
         name: ``FORMATION-WORLD``.
         formation: a shipped formation's name.
-        world: ``msm`` or ``pybullet``.
+        sim: ``msm`` or ``pybullet``.
         budget_steps: upper-agent steps each method may spend in the world (-).
         seeds: runs of each method, seeds 0 .. seeds - 1.
         generations: QDSEGA's generations (its run ends there or at the budget) (-).
@@ -49,7 +49,7 @@ class BenchTask:
 
     name: str
     formation: str
-    world: str
+    sim: str
     budget_steps: int
     seeds: int
     generations: int
@@ -61,8 +61,8 @@ class BenchTask:
     forced: str = ""
 
     def __post_init__(self) -> None:
-        if self.world not in WORLDS:
-            raise ValueError(f"world must be one of {', '.join(WORLDS)}, got {self.world!r}")
+        if self.sim not in LEARNING_SIM:
+            raise ValueError(f"sim must be one of {', '.join(LEARNING_SIM)}, got {self.sim!r}")
         if self.seeds < 1 or self.budget_steps < 1 or self.generations < 1:
             raise ValueError("seeds, budget_steps and generations must be at least 1")
 
@@ -79,7 +79,7 @@ class BenchTask:
     ) -> TrainingConfig:
         """QDSEGA's training configuration: the README preset with this task's budget and one
         worker, then ``learning`` and ``genetic`` settings (keys as in ``config.yaml``)."""
-        sim = WORLDS[self.world]
+        sim = LEARNING_SIM[self.sim]
         genes: dict[str, Any] = {"generations": self.generations, **(genetic or {})}
         if self.population is not None:
             genes["population"] = self.population
@@ -99,7 +99,7 @@ class BenchTask:
     def arena(self) -> Arena:
         """A place to play posture sequences, with one worker."""
         formation, config = self.load(), self.config(seed=0)
-        if self.world == "msm":
+        if self.sim == "msm":
             return MSMArena(model=_msm(formation, config), task=self.rules())
         from qdsega.locomotion.exact_trials import ExactTrials  # starts PyBullet: only here
 
@@ -114,12 +114,12 @@ class BenchTask:
     def yardstick(self) -> tuple[str, float]:
         """What distances are measured against: its name and distance (m)."""
         formation, config = self.load(), self.config(seed=0)
-        if self.world == "msm":
+        if self.sim == "msm":
             optimum = msm_optimum(
                 _msm(formation, config), steps=config.task.trial_steps, light_xy=_light(formation)
             )
             return "the MSM's exact optimum", optimum.distance_m
-        from qdsega.training.reference_search import DEFAULT_BUDGET_TRIALS, reference_gait
+        from qdsega.baselines.reference_search import DEFAULT_BUDGET_TRIALS, reference_gait
 
         reference = reference_gait(
             formation,
@@ -149,7 +149,7 @@ FULL = (
     BenchTask(
         name="legged12-msm",
         formation="legged12",
-        world="msm",
+        sim="msm",
         budget_steps=10_000_000,
         seeds=5,
         generations=200,
@@ -167,7 +167,7 @@ FULL = (
     BenchTask(
         name="snake5-pybullet",
         formation="snake5",
-        world="pybullet",
+        sim="pybullet",
         budget_steps=3000,
         seeds=3,
         generations=5,
@@ -189,7 +189,7 @@ QUICK = (
     BenchTask(
         name="legged12-msm",
         formation="legged12",
-        world="msm",
+        sim="msm",
         budget_steps=20_000,
         seeds=2,
         generations=3,
@@ -203,7 +203,7 @@ QUICK = (
     BenchTask(
         name="snake5-pybullet",
         formation="snake5",
-        world="pybullet",
+        sim="pybullet",
         budget_steps=360,  # one CMA-ES iteration: 11 trials
         seeds=1,
         generations=1,

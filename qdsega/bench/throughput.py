@@ -17,9 +17,9 @@ from collections.abc import Callable
 
 import numpy as np
 
+from qdsega.baselines import classic_gaits
 from qdsega.description import load_formation, resolve_formation
-from qdsega.locomotion import reference_gaits
-from qdsega.training.table_env import TableLocomotionEnv
+from qdsega.locomotion.table_env import TableLocomotionEnv
 
 
 class PhysicsStopwatch:
@@ -52,7 +52,7 @@ def exact_rates(formation_name: str, *, steps: int = 30) -> tuple[float, float]:
         env.reset(seed=0)
         stopwatch.reset()
         start = time.perf_counter()
-        for posture in reference_gaits.default_gait(formation, steps=steps):
+        for posture in classic_gaits.default_gait(formation, steps=steps):
             _, _, terminated, truncated, _ = env.step(posture)
             if terminated or truncated:
                 break
@@ -62,12 +62,12 @@ def exact_rates(formation_name: str, *, steps: int = 30) -> tuple[float, float]:
     return stopwatch.steps / stopwatch.seconds, steps / total
 
 
-def table_rate(formation_name: str, world: str, *, steps: int = 30, repeats: int = 20) -> float:
+def table_rate(formation_name: str, sim: str, *, steps: int = 30, repeats: int = 20) -> float:
     """Steps/s of the table environment walking the default reference gait ``repeats`` times
     (memo: its pairs measured before the clock starts)."""
     formation = load_formation(resolve_formation(formation_name))
-    env = TableLocomotionEnv(formation=formation, world=world)
-    gait = np.asarray(reference_gaits.default_gait(formation, steps=steps))
+    env = TableLocomotionEnv(formation=formation, sim=sim)
+    gait = np.asarray(classic_gaits.default_gait(formation, steps=steps))
     try:
         for round_ in range(repeats + 1):
             if round_ == 1:

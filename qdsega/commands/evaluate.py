@@ -31,7 +31,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> int:
     # Imported here: it starts PyBullet, which the other commands need not load.
-    from qdsega.training.evaluation import evaluate_on, evaluate_run
+    from qdsega.analysis.evaluation import evaluate_on, evaluate_run
     from qdsega.training.reconfiguration import describe
     from qdsega.training.run_folder import EVALUATION_FILE
 

@@ -1,4 +1,4 @@
-"""``qdsega plot``: the figures of a run folder (:mod:`qdsega.training.plots`)."""
+"""``qdsega plot``: the figures of a run folder (:mod:`qdsega.analysis.plots`)."""
 
 from __future__ import annotations
 
@@ -27,7 +27,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from qdsega.training.plots import plot_run  # matplotlib loads only when plotting
+    from qdsega.analysis.plots import plot_run  # matplotlib loads only when plotting
 
     paths, notes = plot_run(args.run_dir, fresh=args.fresh)
     for path in paths:

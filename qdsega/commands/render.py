@@ -35,9 +35,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> int:
     # Imported here: rendering starts PyBullet, which the other commands need not load.
+    from qdsega.analysis.render import read_postures, render_postures, render_run
     from qdsega.description import load_formation, resolve_formation
-    from qdsega.rendering.camera import CameraConfig
-    from qdsega.training.render import read_postures, render_postures, render_run
+    from qdsega.simulation.camera import CameraConfig
 
     try:
         camera = CameraConfig(

@@ -20,7 +20,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from qdsega.training.report import write_report  # loads matplotlib's figure list
+    from qdsega.analysis.report import write_report  # loads matplotlib's figure list
 
     print(write_report(args.run, args.output))
     return 0

@@ -6,7 +6,7 @@ import argparse
 from pathlib import Path
 
 from qdsega.errors import FormationError
-from qdsega.training.sweep import SweepRun, read_grid, run_sweep
+from qdsega.sweep import SweepRun, read_grid, run_sweep
 
 NAME = "sweep"
 HELP = (
@@ -36,7 +36,7 @@ def run(args: argparse.Namespace) -> int:
     if args.jobs < 1:
         raise FormationError(f"--jobs must be at least 1, got {args.jobs}")
     if args.ray is not None:  # refused here, before anything is written
-        from qdsega.ray_pool import connect
+        from qdsega.workers.ray_cluster import connect
 
         connect(args.ray)
     out = args.out or Path("runs") / args.grid.stem

@@ -107,7 +107,7 @@ def run(args: argparse.Namespace) -> int:
         if config.ray is not None:  # refused here, before the run folder exists
             if config.sim != "memo":
                 raise FormationError("--ray measures memo transitions: it goes with --sim memo")
-            from qdsega.ray_pool import connect
+            from qdsega.workers.ray_cluster import connect
 
             connect(config.ray, cpus=config.workers)
         out = args.out or RUNS_DIR / f"{args.formation.stem}-{config.sim}-seed{config.seed}"

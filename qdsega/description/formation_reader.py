@@ -13,7 +13,6 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from qdsega import UNITS_DIR
 from qdsega.description.formation import Formation, Friction, Leg, Light, PlacedUnit
 from qdsega.description.limits import (
     ANGLE_DEG,
@@ -25,9 +24,10 @@ from qdsega.description.limits import (
     MAX_UNITS,
     REPEAT_INDEX,
 )
+from qdsega.description.shipped import UNITS_DIR
 from qdsega.description.unit_type import JointSpec, UnitType, load_unit_type
-from qdsega.description.yaml_reader import KeyPath, Reader, load_yaml
 from qdsega.errors import FormationError
+from qdsega.yaml_reader import KeyPath, Reader, load_yaml
 
 AXES = {"roll": (1.0, 0.0, 0.0), "pitch": (0.0, 1.0, 0.0), "yaw": (0.0, 0.0, 1.0)}
 """Named joint axes, in the joint (= child unit) frame."""

@@ -2,40 +2,14 @@
 
 They keep a hostile or mistaken file from exhausting time or memory (a billion levels, a
 million units, nested YAML aliases) and keep bodies within what PyBullet simulates sensibly.
-The README's "Limits" table lists them.
+docs/formations.md lists them (Limits).
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 
-
-@dataclass(frozen=True)
-class Interval:
-    """The allowed values of one kind of number: ``low <= x <= high`` (``low < x`` if
-    ``open_low``)."""
-
-    low: float
-    high: float
-    open_low: bool = False
-
-    def __contains__(self, value: float) -> bool:
-        above = value > self.low if self.open_low else value >= self.low
-        return above and value <= self.high
-
-    def __str__(self) -> str:
-        return f"{'(' if self.open_low else '['}{self.low:g}, {self.high:g}]"
-
-
-MAX_FILE_BYTES = 64 * 1024
-"""Largest YAML file read (bytes); shipped formations are about 1 KiB."""
-
-MAX_YAML_DEPTH = 32
-"""Deepest nesting of mappings and lists in a YAML file; formations need about 6."""
-
-MAX_YAML_VALUES = 100_000
-"""Values (mappings, lists, scalars, keys) in a YAML file, aliases expanded; legged12 has 114."""
+from qdsega.yaml_reader import Interval
 
 MAX_UNITS = 128
 """Units in one formation, counted after repeats and templates are expanded."""

@@ -2,10 +2,25 @@
 
 from __future__ import annotations
 
+from importlib.resources import files
 from pathlib import Path
 
-from qdsega import ASSEMBLIES_DIR
 from qdsega.errors import FormationError
+
+
+def _data_folder(package: str) -> Path:
+    """The folder of data package ``package``; installs are plain files, never zipped."""
+    folder = files(package)
+    if not isinstance(folder, Path):
+        raise ImportError(f"{package} is not a folder on disk ({folder}); install qdsega unzipped")
+    return folder
+
+
+UNITS_DIR = _data_folder("qdsega.units")
+"""Shipped unit types, one folder each: ``units/`` of the checkout (``qdsega/units`` installed)."""
+
+ASSEMBLIES_DIR = _data_folder("qdsega.assemblies")
+"""Shipped formation files: ``assemblies/`` of the checkout (``qdsega/assemblies`` installed)."""
 
 
 def shipped_formation_names() -> list[str]:

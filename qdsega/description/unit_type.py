@@ -20,8 +20,8 @@ from qdsega.description.limits import (
     POSITION_M,
     SPEED_RAD_S,
 )
-from qdsega.description.yaml_reader import Reader, load_yaml
 from qdsega.errors import FormationError
+from qdsega.yaml_reader import Reader, load_yaml
 
 LINK_PLACEHOLDER = "${link}"
 """Written in a link template wherever the link's (unique) name goes."""

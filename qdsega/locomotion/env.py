@@ -19,7 +19,7 @@ that follows the body, looking toward the light (a yellow sphere on the horizon)
 off-screen by pybullet's EGL plugin, or by its TinyRenderer (with a
 :class:`~qdsega.errors.QdsegaWarning`) where EGL does not load. Rendering changes nothing in
 the physics. ``on_physics_step`` lets a recorder film within a step
-(:func:`qdsega.rendering.recorder.record`).
+(:func:`qdsega.analysis.recorder.record`).
 
 Registered with Gymnasium as ``qdsega/Locomotion-v0`` when :mod:`qdsega` is imported::
 
@@ -42,9 +42,9 @@ from qdsega.assembly import assemble
 from qdsega.description import Formation, load_formation, resolve_formation
 from qdsega.errors import QdsegaWarning
 from qdsega.locomotion.lower_agent import LowerAgent, LowerAgentConfig
-from qdsega.rendering.camera import LIGHT_RADIUS_FRACTION, CameraConfig
 from qdsega.simulation import PhysicsSettings
 from qdsega.simulation.bullet import BulletSimulation
+from qdsega.simulation.camera import LIGHT_RADIUS_FRACTION, CameraConfig
 from qdsega.task import Pose, Task, TaskConfig, move_pose, relative_move
 
 SETTLE_S = 0.5

@@ -19,9 +19,9 @@ from qdsega.description import Formation
 from qdsega.locomotion.env import LocomotionEnv, Replay, replay_postures
 from qdsega.locomotion.env_world import EnvWorld
 from qdsega.locomotion.lower_agent import LowerAgentConfig
-from qdsega.parallel import Pool, worker_pool
 from qdsega.simulation import PhysicsSettings
 from qdsega.task import TaskConfig
+from qdsega.workers.pool import Pool, worker_pool
 
 
 class ExactTrials:

@@ -26,10 +26,10 @@ from qdsega.assembly import assemble
 from qdsega.atomic import replaced_atomically
 from qdsega.description import Formation
 from qdsega.locomotion.lower_agent import LowerAgent, LowerAgentConfig
-from qdsega.parallel import Pool, worker_pool
 from qdsega.simulation import PhysicsSettings
 from qdsega.simulation.bullet import BulletSimulation
 from qdsega.task import relative_move
+from qdsega.workers.pool import Pool, worker_pool
 
 SETTLE_S = 0.5
 """Rest time in the start posture of a transition before the command (s)."""
@@ -48,7 +48,7 @@ class MeasuredTransitions:
         workers: processes measuring in parallel (1 measures in this process, unless
             ``ray`` is given).
         ray: measure on Ray actors instead of processes: ``local`` or a cluster address
-            (:mod:`qdsega.ray_pool`); the table is the same bit for bit.
+            (:mod:`qdsega.workers.ray_cluster`); the table is the same bit for bit.
     """
 
     def __init__(

@@ -1,1 +1,2 @@
-"""Training runs: resolved configuration, the run folder, and its figures."""
+"""The run lifecycle: configuration, the run folder, training and resuming, checkpoints, warm
+starts."""

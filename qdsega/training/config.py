@@ -39,7 +39,7 @@ from qdsega.simulation import PhysicsSettings
 from qdsega.task import TaskConfig
 
 SIMULATORS = ("msm", "memo", "pybullet")
-"""Worlds ``qdsega train`` can learn in (:mod:`qdsega.training.worlds`)."""
+"""Worlds ``qdsega train`` can learn in (:mod:`qdsega.training.sims`)."""
 DEFAULT_PRESET = "paper-legged"
 """The preset when neither ``--preset`` nor the configuration file names one."""
 
@@ -65,8 +65,8 @@ class TrainingConfig:
             trials).
         ray: None for local processes; ``local`` (a Ray instance started on this machine) or
             a Ray cluster's address: memo transitions are measured by ``workers`` Ray actors
-            there (:mod:`qdsega.ray_pool`), exact trials stay on local processes. What a run
-            learns does not depend on it.
+            there (:mod:`qdsega.workers.ray_cluster`), exact trials stay on local processes.
+            What a run learns does not depend on it.
         ground_table: memo mode: correct the table with the moves that each generation's
             exact replay of its greedy policy went through (:mod:`qdsega.agent.grounding`).
         explore_trials: memo mode with ``ground_table``: trials of each generation's
@@ -82,7 +82,7 @@ class TrainingConfig:
             greedy policy strayed more (21 of 30; ``qdsega/agent/README.md``).
         local_search: memo mode: neighbours of the best exact trial so far replayed with
             exact physics each generation, the best one's postures kept in the population
-            (:class:`qdsega.training.worlds.TrainingWorld`); 0 for none (-). 10: on snake5
+            (:class:`qdsega.training.sims.TrainingSim`); 0 for none (-). 10: on snake5
             (5 seeds) the median exact distance rose from 1.30 to 1.38 m and the worst seed
             from 0.85 to 1.33 m, for about twice the wall time (``qdsega/agent/README.md``).
         phase_moves: the share of local-search neighbours that shift one joint's commands one

@@ -79,7 +79,7 @@ from qdsega.training.run_folder import (
     require_finished,
 )
 from qdsega.training.run_lock import LOCK_FILE, run_lock
-from qdsega.training.worlds import TrainingWorld, build_world, check_world, leg_states
+from qdsega.training.sims import TrainingSim, build_sim, check_sim, leg_states
 
 METRIC_COLUMNS = (
     "generation",
@@ -192,7 +192,7 @@ def train(
     """
     out = Path(out)
     original = load_formation(formation_file)
-    check_world(config.with_light(original), config)
+    check_sim(config.with_light(original), config)
     warm = None
     if warm_start is not None:
         warm = _warm_source(Path(warm_start), original, config, allow_unmatched)
@@ -299,7 +299,7 @@ def _run(
     progress: Progress | None,
 ) -> dict[str, Any]:
     session_start = time.perf_counter()
-    world = build_world(formation, config, out)
+    world = build_sim(formation, config, out)
     try:
         learner = QDSEGA(
             config=config.agent,
@@ -389,7 +389,7 @@ def _advance(
     generation: Generation,
     exact: Rollout,
     learner: QDSEGA,
-    world: TrainingWorld,
+    world: TrainingSim,
     sim_steps: int,
     elapsed_s: float,
 ) -> Checkpoint:
@@ -473,7 +473,7 @@ def _finish(
     out: Path,
     formation: Formation,
     config: TrainingConfig,
-    world: TrainingWorld,
+    world: TrainingSim,
     checkpoint: Checkpoint,
 ) -> dict[str, Any]:
     """Write trajectories.npz, policy.npz and, last, summary.json from the final checkpoint."""

@@ -8,7 +8,6 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from qdsega import ASSEMBLIES_DIR
 from qdsega.agent.config import PRESETS, with_budget
 from qdsega.agent.imitation import imitate
 from qdsega.agent.learner import QDSEGA
@@ -16,6 +15,7 @@ from qdsega.agent.policy import Rollout, SequencePolicy, rollout
 from qdsega.agent.space import ExplorationSpace
 from qdsega.agent.table_world import TableWorld
 from qdsega.description import load_formation
+from qdsega.description.shipped import ASSEMBLIES_DIR
 from qdsega.msm import LegLayout, MinimalSimulationModel, MSMParameters, msm_optimum
 from qdsega.task import Task, TaskConfig
 

@@ -8,11 +8,11 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from qdsega import ASSEMBLIES_DIR
 from qdsega.agent.config import PRESETS, with_budget
 from qdsega.agent.learner import QDSEGA
 from qdsega.agent.space import ExplorationSpace
 from qdsega.description import load_formation
+from qdsega.description.shipped import ASSEMBLIES_DIR
 from qdsega.msm import LegLayout, MinimalSimulationModel, MSMParameters, msm_optimum
 from qdsega.task import Task
 

@@ -8,7 +8,6 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from qdsega import ASSEMBLIES_DIR
 from qdsega.agent.config import PRESETS
 from qdsega.agent.genetic import random_population
 from qdsega.agent.qlearning import learn_on_table
@@ -16,10 +15,11 @@ from qdsega.agent.space import ExplorationSpace
 from qdsega.agent.table_world import TableWorld
 from qdsega.agent.world import Paths, Transitions
 from qdsega.agent.world_loop import learn_on_world
+from qdsega.baselines.classic_gaits import leg_gait
 from qdsega.description import load_formation
+from qdsega.description.shipped import ASSEMBLIES_DIR
 from qdsega.locomotion.env import LocomotionEnv
 from qdsega.locomotion.env_world import EnvWorld
-from qdsega.locomotion.reference_gaits import leg_gait
 from qdsega.msm import LegLayout, MinimalSimulationModel, MSMParameters
 from qdsega.task import Task, TaskConfig, relative_move
 

@@ -6,9 +6,9 @@ import numpy as np
 
 from qdsega.bench.arena import MSMArena
 from qdsega.description import load_formation, resolve_formation
+from qdsega.locomotion.table_env import TableLocomotionEnv
 from qdsega.msm import LegLayout, MinimalSimulationModel, MSMParameters, msm_optimum
 from qdsega.task import Task, TaskConfig
-from qdsega.training.table_env import TableLocomotionEnv
 
 FORMATION = load_formation(resolve_formation("legged12"))
 MODEL = MinimalSimulationModel(legs=LegLayout.from_formation(FORMATION), params=MSMParameters())
@@ -29,7 +29,7 @@ def test_a_batch_walks_as_the_table_environment_does_step_by_step():
     sequences = [np.where(rng.random((30, 24)) < p, 1 - start, start) for p in flips]
     arena = MSMArena(model=MODEL, task=TASK)
     replays = arena.replays(sequences)
-    env = TableLocomotionEnv(formation=FORMATION, world="msm")
+    env = TableLocomotionEnv(formation=FORMATION, sim="msm")
     commands = 0
     for sequence, replay in zip(sequences, replays, strict=True):
         env.reset(seed=0)

@@ -14,7 +14,7 @@ from qdsega.bench.tasks import ALL_METHODS, FULL, QUICK, BenchTask
 TINY = BenchTask(
     name="legged12-msm",
     formation="legged12",
-    world="msm",
+    sim="msm",
     budget_steps=3000,
     seeds=1,
     generations=2,
@@ -75,4 +75,4 @@ def test_every_task_names_known_methods_and_increasing_budgets(tasks):
     for task in tasks:
         assert set(task.methods) <= set(METHODS)
         assert list(task.budgets) == sorted(task.budgets)
-        assert task.config(seed=0).sim == ("msm" if task.world == "msm" else "memo")
+        assert task.config(seed=0).sim == ("msm" if task.sim == "msm" else "memo")

@@ -8,7 +8,7 @@ import shutil
 
 from helpers import run_cli
 
-from qdsega import ASSEMBLIES_DIR
+from qdsega.description.shipped import ASSEMBLIES_DIR
 
 TINY = "task: {trial_steps: 6}\n"
 NO_SEARCH = ("--reference-trials", "0")  # the classic gaits only: this test is about files

@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 import yaml
 
-from qdsega import ASSEMBLIES_DIR
+from qdsega.description.shipped import ASSEMBLIES_DIR
 
 
 def test_train_then_plot(cli, tmp_path):

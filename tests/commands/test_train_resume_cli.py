@@ -21,7 +21,7 @@ from helpers import (
     stop_when,
 )
 
-from qdsega import ASSEMBLIES_DIR
+from qdsega.description.shipped import ASSEMBLIES_DIR
 
 MEMO_BUDGET = """\
 workers: {workers}

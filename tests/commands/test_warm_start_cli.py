@@ -10,7 +10,7 @@ import signal
 import pytest
 from helpers import assert_same_result, finished_generations, run_cli, start_cli, stop_when
 
-from qdsega import ASSEMBLIES_DIR
+from qdsega.description.shipped import ASSEMBLIES_DIR
 
 MSM = ["--sim", "msm", "--trials", "2000", "--quiet"]
 MEMO_BUDGET = """\

@@ -7,8 +7,9 @@ import pytest
 
 from qdsega.cli import main
 from qdsega.description import load_formation
-from qdsega.description.limits import MAX_FILE_BYTES, MAX_LEVELS, MAX_UNITS, Interval
+from qdsega.description.limits import MAX_LEVELS, MAX_UNITS
 from qdsega.errors import FormationError
+from qdsega.yaml_reader import MAX_FILE_BYTES, Interval
 
 SNAKE = """\
 name: snake

@@ -7,9 +7,9 @@ import textwrap
 import numpy as np
 import pytest
 
-from qdsega import UNITS_DIR
 from qdsega.assembly import assemble
 from qdsega.description import load_formation
+from qdsega.description.shipped import UNITS_DIR
 from qdsega.errors import FormationError
 from qdsega.simulation.bullet import BulletSimulation
 

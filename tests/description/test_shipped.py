@@ -2,9 +2,9 @@
 
 import pytest
 
-from qdsega import ASSEMBLIES_DIR
 from qdsega.cli import main
 from qdsega.description import resolve_formation, shipped_formation_names
+from qdsega.description.shipped import ASSEMBLIES_DIR
 from qdsega.errors import FormationError
 
 

@@ -6,9 +6,9 @@ import numpy as np
 import pytest
 from gymnasium.utils.env_checker import check_env
 
+from qdsega.baselines.classic_gaits import leg_gait
 from qdsega.description import Friction, load_formation
 from qdsega.locomotion.env import LocomotionEnv
-from qdsega.locomotion.reference_gaits import leg_gait
 from qdsega.task import TaskConfig
 
 

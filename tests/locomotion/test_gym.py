@@ -14,7 +14,7 @@ from gymnasium.utils.env_checker import check_env
 from qdsega import ENV_ID
 from qdsega.description import load_formation
 from qdsega.locomotion.env import LocomotionEnv
-from qdsega.rendering.camera import CameraConfig
+from qdsega.simulation.camera import CameraConfig
 from qdsega.task import TaskConfig
 
 SMALL = CameraConfig(width=64, height=48)

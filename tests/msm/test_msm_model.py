@@ -7,8 +7,8 @@ import math
 import numpy as np
 import pytest
 
-from qdsega import ASSEMBLIES_DIR
 from qdsega.description import load_formation
+from qdsega.description.shipped import ASSEMBLIES_DIR
 from qdsega.errors import FormationError
 from qdsega.msm import LegLayout, MinimalSimulationModel, MSMParameters, side_force
 from qdsega.task import move_pose

@@ -9,10 +9,10 @@ import pytest
 import yaml
 from helpers import SHIPPED_FORMATIONS, SHIPPED_UNITS
 
-from qdsega import UNITS_DIR
 from qdsega.assembly import assemble
 from qdsega.assembly.mass_properties import link_mass_properties
 from qdsega.description import Formation, load_formation, load_unit_type
+from qdsega.description.shipped import UNITS_DIR
 from qdsega.description.unit_type import LINK_PLACEHOLDER
 from qdsega.simulation.bullet import BulletSimulation
 

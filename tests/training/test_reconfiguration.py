@@ -7,11 +7,11 @@ import textwrap
 import numpy as np
 import pytest
 
-from qdsega import UNITS_DIR
 from qdsega.agent.learner import LearnerState
 from qdsega.agent.policy import GreedyPolicy
 from qdsega.agent.space import ExplorationSpace
 from qdsega.description import load_formation
+from qdsega.description.shipped import UNITS_DIR
 from qdsega.training.reconfiguration import JointMapping, describe, warm_state
 
 CHAIN = """\

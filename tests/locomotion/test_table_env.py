@@ -8,14 +8,15 @@ import numpy as np
 import pytest
 from gymnasium.utils.env_checker import check_env
 
-from qdsega import ASSEMBLIES_DIR, TABLE_ENV_ID
+from qdsega import TABLE_ENV_ID
 from qdsega.agent.qlearning import learn_on_table
 from qdsega.agent.space import ExplorationSpace
+from qdsega.baselines.classic_gaits import leg_gait
 from qdsega.description import load_formation
+from qdsega.description.shipped import ASSEMBLIES_DIR
 from qdsega.errors import FormationError
-from qdsega.locomotion.reference_gaits import leg_gait
+from qdsega.locomotion.table_env import TableLocomotionEnv
 from qdsega.task import TaskConfig
-from qdsega.training.table_env import TableLocomotionEnv
 
 GREEDY = np.array([1e-9, 0.0, 0.0])
 """An eq. (18) schedule so cold that the roulette always takes the best action."""
@@ -23,7 +24,7 @@ GREEDY = np.array([1e-9, 0.0, 0.0])
 
 @pytest.mark.parametrize(("formation", "world"), [("quadruped", "msm"), ("snake5", "memo")])
 def test_gymnasium_checks_the_env(formation, world):
-    env = gym.make(TABLE_ENV_ID, formation=formation, world=world, task=TaskConfig(trial_steps=3))
+    env = gym.make(TABLE_ENV_ID, formation=formation, sim=world, task=TaskConfig(trial_steps=3))
     try:
         check_env(env.unwrapped, skip_render_check=True)
     finally:
@@ -35,7 +36,7 @@ def test_the_env_gives_the_compiled_loops_rewards_for_the_same_postures():
     the compiled loop writes into Q when forced along the same postures (alpha 1, gamma 0)."""
     formation = load_formation(ASSEMBLIES_DIR / "legged12.yaml")
     config = TaskConfig(trial_steps=6)
-    env = TableLocomotionEnv(formation=formation, world="msm", task=config)
+    env = TableLocomotionEnv(formation=formation, sim="msm", task=config)
     start = env.provider.start_posture()
     all_up = start.copy()
     for leg in formation.legs:
@@ -75,7 +76,7 @@ def test_the_env_gives_the_compiled_loops_rewards_for_the_same_postures():
 
 
 def test_episodes_repeat_exactly():
-    env = TableLocomotionEnv(formation="hexapod", world="msm")
+    env = TableLocomotionEnv(formation="hexapod", sim="msm")
     env.action_space.seed(3)
     actions = [env.action_space.sample() for _ in range(8)]
     episodes = []
@@ -86,10 +87,10 @@ def test_episodes_repeat_exactly():
 
 
 def test_bad_arguments_are_refused():
-    with pytest.raises(ValueError, match="world must be one of msm, memo"):
-        TableLocomotionEnv(formation="quadruped", world="mujoco")
+    with pytest.raises(ValueError, match="sim must be one of msm, memo"):
+        TableLocomotionEnv(formation="quadruped", sim="mujoco")
     with pytest.raises(FormationError, match="legged"):
-        TableLocomotionEnv(formation="snake5", world="msm")
+        TableLocomotionEnv(formation="snake5", sim="msm")
     env = TableLocomotionEnv(formation="quadruped")
     env.reset(seed=0)
     with pytest.raises(ValueError, match="is not in MultiDiscrete"):

@@ -1,6 +1,6 @@
 """A reference gait that is hard to beat, for any formation: a CPG gait searched by CMA-ES.
 
-The gait (:class:`qdsega.locomotion.cpg.CPGGait`) has an offset, an amplitude and a phase per
+The gait (:class:`qdsega.baselines.cpg.CPGGait`) has an offset, an amplitude and a phase per
 joint and one period of ``PERIODS`` upper-agent steps. CMA-ES (the ``cma`` package, ask and
 tell) searches them in exact physics: every candidate is one trial in the
 :class:`qdsega.locomotion.env.LocomotionEnv` learning and evaluation use (same levels, lower
@@ -19,8 +19,9 @@ A search costs minutes, so its result is kept as one JSON file per key, the SHA-
 canonical JSON of everything the result depends on: the assembled robot (URDF text, mesh
 files, joints, levels, friction, legs, start posture), the light, the task, lower agent and
 physics settings, the PyBullet version and the search settings. Look-up order: the references
-shipped in ``qdsega/references/``, then the user cache (``$QDSEGA_CACHE/references``, default
-``~/.cache/qdsega/references``); else the search runs and its result goes to the user cache.
+shipped in ``qdsega/baselines/references/``, then the user cache
+(``$QDSEGA_CACHE/references``, default ``~/.cache/qdsega/references``); else the search runs and its
+result goes to the user cache.
 """
 
 from __future__ import annotations
@@ -43,8 +44,8 @@ import numpy as np
 
 from qdsega.assembly import assemble
 from qdsega.atomic import replaced_atomically
+from qdsega.baselines.cpg import CPGGait
 from qdsega.description import Formation
-from qdsega.locomotion.cpg import CPGGait
 from qdsega.locomotion.env import Replay
 from qdsega.locomotion.exact_trials import ExactTrials
 from qdsega.locomotion.lower_agent import LowerAgentConfig
@@ -66,7 +67,7 @@ SIGMA0 = 0.3
 FAILED_COST = 1000.0
 """Cost of a failed trial, above the cost ``-distance`` of any completed one (m)."""
 
-SHIPPED_DIR = Path(str(importlib.resources.files("qdsega.references")))
+SHIPPED_DIR = Path(str(importlib.resources.files("qdsega.baselines"))) / "references"
 """References computed at the default budget and shipped with the package."""
 
 

@@ -4,8 +4,8 @@ import math
 import numpy as np
 import pytest
 
+from qdsega.baselines import classic_gaits
 from qdsega.description import load_formation
-from qdsega.locomotion import reference_gaits
 
 
 @pytest.fixture(scope="module")
@@ -28,17 +28,17 @@ def _leg_states(formation, postures):
     )
 
 
-@pytest.mark.parametrize("gait", reference_gaits.LEG_GAITS)
+@pytest.mark.parametrize("gait", classic_gaits.LEG_GAITS)
 def test_every_leg_follows_the_stroke_cycle(legged12, gait):
-    states = _leg_states(legged12, reference_gaits.leg_gait(legged12, gait=gait, steps=8))
+    states = _leg_states(legged12, classic_gaits.leg_gait(legged12, gait=gait, steps=8))
     for column in states.T:
-        start = reference_gaits.LEG_CYCLE.index(column[0])
-        expected = [reference_gaits.LEG_CYCLE[(start + k) % 4] for k in range(8)]
+        start = classic_gaits.LEG_CYCLE.index(column[0])
+        expected = [classic_gaits.LEG_CYCLE[(start + k) % 4] for k in range(8)]
         assert list(column) == expected
 
 
 def test_alternating_gait_keeps_half_the_legs_down(legged12):
-    states = _leg_states(legged12, reference_gaits.leg_gait(legged12, gait="alternating", steps=4))
+    states = _leg_states(legged12, classic_gaits.leg_gait(legged12, gait="alternating", steps=4))
     down = (states <= 2).sum(axis=1)
     assert list(down) == [6, 6, 6, 6]
     # neighbours along a side are half a cycle apart
@@ -48,7 +48,7 @@ def test_alternating_gait_keeps_half_the_legs_down(legged12):
 
 def test_serpenoid_is_snapped_to_levels_and_travels_head_to_tail():
     snake = load_formation("assemblies/snake5.yaml")
-    postures = reference_gaits.serpenoid(
+    postures = classic_gaits.serpenoid(
         snake, amplitude_rad=math.radians(20), phase_lag_rad=math.pi / 2, steps_per_cycle=4, steps=4
     )
     angles = np.degrees([snake.posture_rad(row) for row in postures]).round()
@@ -59,6 +59,6 @@ def test_serpenoid_is_snapped_to_levels_and_travels_head_to_tail():
 
 def test_unknown_gait_and_legless_bodies_are_refused(legged12):
     with pytest.raises(ValueError, match="unknown gait"):
-        reference_gaits.leg_gait(legged12, gait="gallop", steps=4)
+        classic_gaits.leg_gait(legged12, gait="gallop", steps=4)
     with pytest.raises(ValueError, match="has no legs"):
-        reference_gaits.leg_gait(load_formation("assemblies/snake5.yaml"), gait="wave", steps=4)
+        classic_gaits.leg_gait(load_formation("assemblies/snake5.yaml"), gait="wave", steps=4)

@@ -12,7 +12,7 @@ table, keyed by the posture pair alone, without the corrections a training run's
 
 Registered with Gymnasium as ``qdsega/TableLocomotion-v0`` when :mod:`qdsega` is imported::
 
-    env = gymnasium.make("qdsega/TableLocomotion-v0", formation="quadruped", world="msm")
+    env = gymnasium.make("qdsega/TableLocomotion-v0", formation="quadruped", sim="msm")
 """
 
 from __future__ import annotations
@@ -28,8 +28,8 @@ from qdsega.description import Formation, load_formation, resolve_formation
 from qdsega.msm import LegLayout, MinimalSimulationModel, MSMParameters
 from qdsega.task import Pose, Task, TaskConfig, move_pose
 
-WORLDS = ("msm", "memo")
-"""The table worlds this environment walks."""
+SIMS = ("msm", "memo")
+"""The table worlds this environment walks (``sim``)."""
 
 
 class TableLocomotionEnv(gym.Env[np.ndarray, np.ndarray]):
@@ -37,9 +37,9 @@ class TableLocomotionEnv(gym.Env[np.ndarray, np.ndarray]):
 
     Args:
         formation: a :class:`Formation`, a formation file, or a shipped formation's name.
-        world: ``msm`` or ``memo`` (module docstring).
+        sim: ``msm`` or ``memo`` (module docstring).
         task: trial length, reward, penalty and exterior bins.
-        msm: the MSM's constants (``world="msm"``).
+        msm: the MSM's constants (``sim="msm"``).
     """
 
     metadata: dict[str, Any] = {"render_modes": []}  # noqa: RUF012 - Gymnasium's
@@ -48,17 +48,17 @@ class TableLocomotionEnv(gym.Env[np.ndarray, np.ndarray]):
         self,
         *,
         formation: Formation | Path | str,
-        world: str = "msm",
+        sim: str = "msm",
         task: TaskConfig | None = None,
         msm: MSMParameters | None = None,
     ) -> None:
-        if world not in WORLDS:
-            raise ValueError(f"world must be one of {', '.join(WORLDS)}, got {world!r}")
+        if sim not in SIMS:
+            raise ValueError(f"sim must be one of {', '.join(SIMS)}, got {sim!r}")
         if not isinstance(formation, Formation):
             formation = load_formation(resolve_formation(Path(formation)))
         self.formation = formation
         self.task = Task(config=task or TaskConfig(), light_xy=formation.light.position_m)
-        self.provider = _provider(formation, world, msm or MSMParameters())
+        self.provider = _provider(formation, sim, msm or MSMParameters())
         levels = [len(joint.levels_rad) for joint in formation.joints]
         self.action_space = gym.spaces.MultiDiscrete(levels)
         self.observation_space = gym.spaces.MultiDiscrete([*levels, self.task.n_exterior])
@@ -114,8 +114,8 @@ class TableLocomotionEnv(gym.Env[np.ndarray, np.ndarray]):
         }
 
 
-def _provider(formation: Formation, world: str, msm: MSMParameters) -> TransitionProvider:
-    if world == "msm":
+def _provider(formation: Formation, sim: str, msm: MSMParameters) -> TransitionProvider:
+    if sim == "msm":
         return MinimalSimulationModel(legs=LegLayout.from_formation(formation), params=msm)
     from qdsega.locomotion.lower_agent import LowerAgentConfig  # starts PyBullet: only here
     from qdsega.locomotion.memo import MeasuredTransitions

@@ -62,7 +62,7 @@ class _Actor:
 
 class RayPool:
     """``workers`` Ray actors, each set up by ``initializer(*initargs)``; a
-    :class:`qdsega.parallel.Pool`.
+    :class:`qdsega.workers.pool.Pool`.
 
     Args:
         workers: actors, one CPU each.

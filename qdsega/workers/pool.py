@@ -4,8 +4,9 @@ Workers are spawned (not forked: each builds its own PyBullet client), leave Ctr
 parent, which stops the pool, and end as soon as their parent is gone, however it ended: a
 parent killed with SIGKILL would otherwise leave them waiting for work forever.
 
-With ``ray`` given, the same workers are Ray actors instead (:mod:`qdsega.ray_pool`), on this
-machine or spread over a cluster; the work and its results are the same.
+With ``ray`` given, the same workers are Ray actors instead
+(:mod:`qdsega.workers.ray_cluster`), on this machine or spread over a cluster; the work and its
+results are the same.
 """
 
 from __future__ import annotations
@@ -52,7 +53,7 @@ def worker_pool(
     if workers < 1:
         raise ValueError(f"workers must be at least 1, got {workers}")
     if ray is not None:
-        from qdsega.ray_pool import RayPool  # imports Ray: only when asked for
+        from qdsega.workers.ray_cluster import RayPool  # imports Ray: only when asked for
 
         return RayPool(workers, initializer, initargs, address=ray)
     return ProcessPoolExecutor(

@@ -9,16 +9,16 @@ import numpy as np
 import pytest
 from helpers import SHIPPED_FORMATIONS
 
-from qdsega import ASSEMBLIES_DIR
+from qdsega.baselines import reference_search
+from qdsega.baselines.cpg import CPGGait
+from qdsega.baselines.reference_search import reference_gait, reference_key
 from qdsega.description import Light, load_formation
-from qdsega.locomotion.cpg import CPGGait
+from qdsega.description.shipped import ASSEMBLIES_DIR
 from qdsega.locomotion.env import LocomotionEnv, replay_postures
 from qdsega.locomotion.lower_agent import LowerAgentConfig
 from qdsega.simulation import PhysicsSettings
 from qdsega.task import TaskConfig
-from qdsega.training import reference_search
 from qdsega.training.config import resolve_config
-from qdsega.training.reference_search import reference_gait, reference_key
 
 SNAKE = load_formation(ASSEMBLIES_DIR / "snake5.yaml")
 STEPS = 6

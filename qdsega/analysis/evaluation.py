@@ -10,9 +10,9 @@
   trial length, physics), each with its kind, parameters and distance (m): the best
   hand-designed one (for a snake, the best serpenoid wave of a grid over amplitude, phase lag
   and steps per cycle, snapped to the joint levels; for a legged body, the best of the classic
-  gaits in the paper's four leg states, :mod:`qdsega.locomotion.reference_gaits`), and a CPG
+  gaits in the paper's four leg states, :mod:`qdsega.baselines.classic_gaits`), and a CPG
   gait CMA-ES found in a budget of exact trials (stated in trials and steps;
-  :mod:`qdsega.training.reference_search`, cached by content hash); a gait that fails counts
+  :mod:`qdsega.baselines.reference_search`, cached by content hash); a gait that fails counts
   0 m;
 * ``reference``: the best of them (which one won is its ``kind``);
 * ``ratio``: ``distance_m / reference.distance_m`` (None when every reference is 0 m);
@@ -39,26 +39,26 @@ import numpy as np
 
 from qdsega.agent.policy import GreedyPolicy, rollout
 from qdsega.atomic import replaced_atomically
+from qdsega.baselines import classic_gaits
+from qdsega.baselines.reference_search import (
+    DEFAULT_BUDGET_TRIALS,
+    check_budget,
+    reference_gait,
+)
 from qdsega.description import Formation, load_formation, resolve_formation
 from qdsega.errors import FormationError
-from qdsega.locomotion import reference_gaits
 from qdsega.locomotion.env import LocomotionEnv, replay_postures
 from qdsega.locomotion.env_world import EnvWorld
 from qdsega.training.config import TrainingConfig, read_run_config
 from qdsega.training.formation_copy import load_run_formation
 from qdsega.training.reconfiguration import JointMapping
-from qdsega.training.reference_search import (
-    DEFAULT_BUDGET_TRIALS,
-    check_budget,
-    reference_gait,
-)
 from qdsega.training.run_folder import (
     EVALUATION_FILE,
     POLICY_FILE,
     read_summary,
     require_finished,
 )
-from qdsega.training.worlds import check_world, exact_env
+from qdsega.training.sims import check_sim, exact_env
 
 
 def evaluate_run(
@@ -127,7 +127,7 @@ def evaluate_on(run: Path | str, other: Path | str) -> tuple[dict[str, Any], Pat
     _, config, policy = load_run(run)
     source = load_run_formation(run, config)
     target = config.with_light(load_formation(resolve_formation(other)))
-    check_world(target, replace(config, sim="memo"))  # the lower agent must drive it
+    check_sim(target, replace(config, sim="memo"))  # the lower agent must drive it
     mapping = JointMapping.between(source, target)
     env = exact_env(target, config)
     try:
@@ -176,12 +176,12 @@ def classic_reference(env: LocomotionEnv, formation: Formation) -> dict[str, Any
     steps = env.task.trial_steps
     if formation.legs:
         candidates = [
-            ({"gait": gait}, reference_gaits.leg_gait(formation, gait=gait, steps=steps))
-            for gait in reference_gaits.LEG_GAITS
+            ({"gait": gait}, classic_gaits.leg_gait(formation, gait=gait, steps=steps))
+            for gait in classic_gaits.LEG_GAITS
         ]
         kind = "classic leg gait"
     else:
-        candidates = list(reference_gaits.serpenoid_grid(formation, steps=steps))
+        candidates = list(classic_gaits.serpenoid_grid(formation, steps=steps))
         kind = "serpenoid travelling wave"
     best: dict[str, Any] = {"kind": kind, "params": None, "distance_m": 0.0}
     for params, postures in candidates:
@@ -195,7 +195,7 @@ def searched_reference(
     env: LocomotionEnv, formation: Formation, config: TrainingConfig, *, trials: int
 ) -> dict[str, Any]:
     """The CPG gait CMA-ES finds in ``trials`` exact trials (cached by content hash,
-    :mod:`qdsega.training.reference_search`), replayed in ``env``."""
+    :mod:`qdsega.baselines.reference_search`), replayed in ``env``."""
     try:
         found = reference_gait(
             formation,

@@ -4,7 +4,7 @@ Joint ``j`` at upper-agent step ``k`` (k = 1, 2, ...) is commanded the level nea
 
     offset_j + amplitude_j * sin(2 pi k / P + phase_j)
 
-(the first of equally near levels, as :func:`qdsega.locomotion.reference_gaits.serpenoid`
+(the first of equally near levels, as :func:`qdsega.locomotion.classic_gaits.serpenoid`
 snaps), so the posture sequence repeats every ``P`` steps. Nothing is specific to a body: a
 snake's yaw joints with nine levels and a leg's swing and lift joints with two levels are
 driven alike; with two levels the oscillator becomes a square wave whose duty cycle the offset
@@ -12,7 +12,7 @@ sets.
 
 :meth:`CPGGait.from_unit` maps a point of the unit box ``[0, 1]^(3J)`` onto gaits whose
 offsets lie within each joint's level range and whose amplitudes reach across it, for searches
-that want one scale for all parameters (:mod:`qdsega.training.reference_search`).
+that want one scale for all parameters (:mod:`qdsega.baselines.reference_search`).
 """
 
 from __future__ import annotations

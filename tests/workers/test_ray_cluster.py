@@ -8,14 +8,14 @@ import pytest
 from qdsega.description import load_formation
 from qdsega.locomotion.lower_agent import LowerAgentConfig
 from qdsega.locomotion.memo import MeasuredTransitions
-from qdsega.training.worlds import MEMO_FILE
+from qdsega.training.sims import MEMO_FILE
 
 ray = pytest.importorskip("ray", reason="Ray is an optional extra: pip install 'qdsega[ray]'")
 
 
 @pytest.fixture(scope="module")
 def local_ray():
-    from qdsega.ray_pool import LOCAL, connect
+    from qdsega.workers.ray_cluster import LOCAL, connect
 
     yield connect(LOCAL)
     ray.shutdown()

@@ -3,8 +3,8 @@ import math
 import numpy as np
 import pytest
 
+from qdsega.baselines.cpg import CPGGait
 from qdsega.description import load_formation
-from qdsega.locomotion.cpg import CPGGait
 
 
 @pytest.fixture(scope="module", params=["snake5", "quadruped"])

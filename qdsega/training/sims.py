@@ -35,7 +35,7 @@ from qdsega.training.config import TrainingConfig
 if TYPE_CHECKING:
     from qdsega.locomotion.env import LocomotionEnv
     from qdsega.locomotion.exact_trials import ExactTrials
-    from qdsega.rendering.camera import CameraConfig
+    from qdsega.simulation.camera import CameraConfig
 
 MEMO_FILE = "transitions.npz"
 """The memo table in a run folder."""
@@ -45,7 +45,7 @@ a stream no exploring trial uses."""
 
 
 @dataclass
-class TrainingWorld:
+class TrainingSim:
     """A world, its exact twin, and what the run needs to know about them.
 
     Attributes:
@@ -203,7 +203,7 @@ class TrainingWorld:
                 close()
 
 
-def check_world(formation: Formation, config: TrainingConfig) -> None:
+def check_sim(formation: Formation, config: TrainingConfig) -> None:
     """Refuse, before anything is written, a formation the world ``config.sim`` cannot model.
 
     Raises:
@@ -219,7 +219,7 @@ def check_world(formation: Formation, config: TrainingConfig) -> None:
         raise FormationError(str(exc), file=formation.file) from None
 
 
-def build_world(formation: Formation, config: TrainingConfig, run: Path) -> TrainingWorld:
+def build_sim(formation: Formation, config: TrainingConfig, run: Path) -> TrainingSim:
     """The world ``config.sim`` names, for ``formation``; memo mode reuses ``run``'s table.
 
     Raises:
@@ -230,12 +230,12 @@ def build_world(formation: Formation, config: TrainingConfig, run: Path) -> Trai
         layout = LegLayout.from_formation(formation)  # refuses a legless formation
         model = MinimalSimulationModel(legs=layout, params=config.msm)
         optimum = msm_optimum(model, steps=task.trial_steps, light_xy=tuple(task.light))
-        return TrainingWorld(model, None, None, task, optimum, layout)
+        return TrainingSim(model, None, None, task, optimum, layout)
     layout = LegLayout.from_formation(formation) if formation.legs else None
     from qdsega.locomotion.env_world import EnvWorld  # starts PyBullet: only when needed
 
     if config.sim == "pybullet":
-        return TrainingWorld(
+        return TrainingSim(
             EnvWorld(env=exact_env(formation, config)), None, None, task, None, layout
         )
     from qdsega.locomotion.exact_trials import ExactTrials
@@ -266,7 +266,7 @@ def build_world(formation: Formation, config: TrainingConfig, run: Path) -> Trai
         physics=config.physics,
         workers=config.workers,
     )
-    return TrainingWorld(
+    return TrainingSim(
         provider,
         exact,
         grounded,

@@ -210,7 +210,7 @@ def run_sweep(
     out = out.resolve()
     folders = [out / run.name for run in runs]
     if ray is not None:
-        from qdsega.ray_pool import connect
+        from qdsega.workers.ray_cluster import connect
 
         cluster = connect(ray)
         remote = cluster.remote(num_cpus=1)(run_one)

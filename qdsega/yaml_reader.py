@@ -15,10 +15,36 @@ from typing import Any
 
 import yaml
 
-from qdsega.description.limits import MAX_FILE_BYTES, MAX_YAML_DEPTH, MAX_YAML_VALUES, Interval
 from qdsega.errors import FormationError
 
 KeyPath = tuple[str | int, ...]
+
+
+@dataclass(frozen=True)
+class Interval:
+    """The allowed values of one kind of number: ``low <= x <= high`` (``low < x`` if
+    ``open_low``)."""
+
+    low: float
+    high: float
+    open_low: bool = False
+
+    def __contains__(self, value: float) -> bool:
+        above = value > self.low if self.open_low else value >= self.low
+        return above and value <= self.high
+
+    def __str__(self) -> str:
+        return f"{'(' if self.open_low else '['}{self.low:g}, {self.high:g}]"
+
+
+MAX_FILE_BYTES = 64 * 1024
+"""Largest YAML file read (bytes); shipped formations are about 1 KiB."""
+
+MAX_YAML_DEPTH = 32
+"""Deepest nesting of mappings and lists in a YAML file; formations need about 6."""
+
+MAX_YAML_VALUES = 100_000
+"""Values (mappings, lists, scalars, keys) in a YAML file, aliases expanded; legged12 has 114."""
 
 
 def format_key_path(path: KeyPath) -> str:

@@ -10,7 +10,7 @@ import numpy as np
 
 from qdsega.agent.policy import Policy, Rollout, SequencePolicy
 from qdsega.task import Task, TaskConfig
-from qdsega.training.worlds import TrainingWorld
+from qdsega.training.sims import TrainingSim
 
 LEVELS = np.array([9, 9, 9])
 
@@ -33,9 +33,9 @@ class _ScoredTrials:
         return out
 
 
-def _world(local_search: int) -> TrainingWorld:
+def _world(local_search: int) -> TrainingSim:
     task = Task(config=TaskConfig(trial_steps=6), light_xy=(10.0, 0.0))
-    world = TrainingWorld(
+    world = TrainingSim(
         provider=None, exact=None, grounded=None, task=task, optimum=None, layout=None
     )  # type: ignore[arg-type]
     world.exact = _ScoredTrials()  # type: ignore[assignment]
@@ -48,7 +48,7 @@ def _generation(index: int) -> SimpleNamespace:
     return SimpleNamespace(index=index, policy=SequencePolicy(commands=start_gait))
 
 
-def _climb(world: TrainingWorld, generations: range) -> list[list[Rollout]]:
+def _climb(world: TrainingSim, generations: range) -> list[list[Rollout]]:
     learner = SimpleNamespace(levels=LEVELS)
     return [world.replay(_generation(g), learner) for g in generations]  # type: ignore[arg-type]
 

@@ -2,14 +2,14 @@ import math
 
 import numpy as np
 
+from qdsega.analysis.evaluation import wave_of
+from qdsega.baselines import classic_gaits
 from qdsega.description import load_formation
-from qdsega.locomotion import reference_gaits
-from qdsega.training.evaluation import wave_of
 
 
 def test_wave_of_a_serpenoid_finds_its_period_and_phase_lag():
     snake = load_formation("assemblies/snake10.yaml")
-    postures = reference_gaits.serpenoid(
+    postures = classic_gaits.serpenoid(
         snake,
         amplitude_rad=math.radians(20),
         phase_lag_rad=math.radians(60),

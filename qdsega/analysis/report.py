@@ -14,10 +14,10 @@ import json
 from pathlib import Path
 from typing import Any
 
+from qdsega.analysis.plots import FIGURES
 from qdsega.atomic import replaced_atomically
 from qdsega.errors import FormationError
 from qdsega.training.formation_copy import FORMATION_DIR, read_formation_record
-from qdsega.training.plots import FIGURES
 from qdsega.training.reconfiguration import describe
 from qdsega.training.run_folder import read_evaluation, read_summary, require_finished
 

@@ -11,7 +11,7 @@ import time
 PARENT = textwrap.dedent(
     """
     import os, signal
-    from qdsega.parallel import worker_pool
+    from qdsega.workers.pool import worker_pool
 
     def noop():
         pass

@@ -6,16 +6,16 @@ from pathlib import Path
 
 import numpy as np
 
+from qdsega.analysis.evaluation import load_run, replay_policy
+from qdsega.analysis.recorder import Film, record
+from qdsega.analysis.video import VIDEO_SUFFIXES, write_video
 from qdsega.description import Formation
 from qdsega.errors import FormationError
 from qdsega.locomotion.env import LocomotionEnv
-from qdsega.rendering.camera import CameraConfig
-from qdsega.rendering.recorder import Film, record
-from qdsega.rendering.video import VIDEO_SUFFIXES, write_video
-from qdsega.training.evaluation import load_run, replay_policy
+from qdsega.simulation.camera import CameraConfig
 from qdsega.training.formation_copy import load_run_formation
 from qdsega.training.run_folder import read_evaluation
-from qdsega.training.worlds import exact_env
+from qdsega.training.sims import exact_env
 
 
 def render_run(run: Path, out: Path, camera: CameraConfig) -> Film:

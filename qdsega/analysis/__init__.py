@@ -1,0 +1,1 @@
+"""What a finished run shows: its evaluation in exact physics, figures, videos and the report."""

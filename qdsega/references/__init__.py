@@ -1,1 +1,0 @@
-"""Reference gaits computed at the default budget, shipped with the package (JSON)."""

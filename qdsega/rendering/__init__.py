@@ -1,1 +1,0 @@
-"""Rendering: off-screen videos of a formation executing postures."""

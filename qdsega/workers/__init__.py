@@ -1,0 +1,1 @@
+"""Workers for simulations: spawned processes, or Ray actors on this machine or a cluster."""
