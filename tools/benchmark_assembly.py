@@ -13,10 +13,10 @@ import argparse
 import statistics
 import time
 
-from qdsega import ASSEMBLIES_DIR
 from qdsega.assembly import assemble
+from qdsega.baselines import classic_gaits
 from qdsega.description import load_formation
-from qdsega.locomotion import reference_gaits
+from qdsega.description.shipped import ASSEMBLIES_DIR
 from qdsega.simulation import PhysicsSettings
 from qdsega.simulation.bullet import BulletSimulation
 
@@ -39,7 +39,7 @@ def main() -> None:
             sim.reset(formation.posture_rad(formation.rest_levels()))
             period = round(0.5 / settings.time_step_s)
             steps = round(args.seconds / settings.time_step_s)
-            gait = reference_gaits.default_gait(formation, steps=steps // period + 1)
+            gait = classic_gaits.default_gait(formation, steps=steps // period + 1)
             start = time.perf_counter()
             for k in range(steps):
                 if k % period == 0:

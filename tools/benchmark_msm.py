@@ -13,7 +13,7 @@ import tempfile
 import time
 from pathlib import Path
 
-from qdsega import ASSEMBLIES_DIR
+from qdsega.description.shipped import ASSEMBLIES_DIR
 from qdsega.training.config import resolve_config
 from qdsega.training.run import budget_overrides, train
 

@@ -17,10 +17,10 @@ import argparse
 import math
 import time
 
-from qdsega import ASSEMBLIES_DIR
+from qdsega.baselines import classic_gaits
 from qdsega.bench.throughput import PhysicsStopwatch
 from qdsega.description import load_formation
-from qdsega.locomotion import reference_gaits
+from qdsega.description.shipped import ASSEMBLIES_DIR
 from qdsega.locomotion.env import LocomotionEnv, TaskConfig
 
 
@@ -37,7 +37,7 @@ def main() -> None:
     for name in args.formations:
         formation = load_formation(ASSEMBLIES_DIR / f"{name}.yaml")
         task = TaskConfig(trial_steps=args.steps)
-        postures = reference_gaits.default_gait(formation, steps=args.steps)
+        postures = classic_gaits.default_gait(formation, steps=args.steps)
         env = LocomotionEnv(formation=formation, task=task)
         stopwatch = PhysicsStopwatch(env.sim.step)
         env.sim.step = stopwatch  # type: ignore[method-assign]

@@ -32,7 +32,7 @@ import numpy as np
 from qdsega.description import load_formation, resolve_formation
 from qdsega.locomotion.lower_agent import LowerAgentConfig
 from qdsega.locomotion.memo import MeasuredTransitions
-from qdsega.training.sweep import read_grid, run_sweep
+from qdsega.sweep import read_grid, run_sweep
 
 PAPER_TRANSITIONS = 283_000
 """Distinct legged12 transitions the paper's legged protocol needs (measured once by counting a
@@ -83,7 +83,7 @@ def sweep_times(seeds: int) -> tuple[float, float, bool]:
 
 def ray_overhead(calls: int = 200) -> tuple[float, float]:
     """(starting a local Ray instance (s), one trivial call through a Ray actor pool (s))."""
-    from qdsega.parallel import worker_pool
+    from qdsega.workers.pool import worker_pool
 
     start = time.perf_counter()
     pool = worker_pool(2, _nothing, (), ray="local")

@@ -25,6 +25,7 @@ from pathlib import Path
 import numpy as np
 
 from qdsega.assembly import assemble
+from qdsega.baselines.reference_search import reference_gait
 from qdsega.description import Formation, load_formation, resolve_formation
 from qdsega.locomotion.env import replay_postures
 from qdsega.locomotion.lower_agent import LowerAgent
@@ -32,8 +33,7 @@ from qdsega.locomotion.memo import SETTLE_S, MeasuredTransitions
 from qdsega.simulation.bullet import BulletSimulation
 from qdsega.task import Task, move_pose, relative_move
 from qdsega.training.config import TrainingConfig, resolve_config
-from qdsega.training.reference_search import reference_gait
-from qdsega.training.worlds import exact_env
+from qdsega.training.sims import exact_env
 
 Move = tuple[float, float, float] | None
 

@@ -17,9 +17,9 @@ import math
 import shutil
 from pathlib import Path
 
+from qdsega.baselines.reference_search import DEFAULT_BUDGET_TRIALS, SHIPPED_DIR, reference_gait
 from qdsega.description import load_formation, resolve_formation
 from qdsega.training.config import resolve_config
-from qdsega.training.reference_search import DEFAULT_BUDGET_TRIALS, SHIPPED_DIR, reference_gait
 
 
 def main() -> None:

@@ -19,9 +19,9 @@ from typing import Any
 import numpy as np
 import yaml
 
-from qdsega import ASSEMBLIES_DIR
 from qdsega.agent.learner import QDSEGA
 from qdsega.description import load_formation
+from qdsega.description.shipped import ASSEMBLIES_DIR
 from qdsega.msm import LegLayout, MinimalSimulationModel, msm_optimum
 from qdsega.training.config import resolve_config
 from qdsega.training.run import budget_overrides

@@ -97,9 +97,7 @@ def _exact_env(task: BenchTask) -> gym.Env[np.ndarray, np.ndarray]:
     """Where PPO's policy is scored: the MSM itself, or exact PyBullet."""
     formation, config = task.load(), task.config(seed=0)
     if task.sim == "msm":
-        return TableLocomotionEnv(
-            formation=formation, sim="msm", task=config.task, msm=config.msm
-        )
+        return TableLocomotionEnv(formation=formation, sim="msm", task=config.task, msm=config.msm)
     from qdsega.locomotion.env import LocomotionEnv  # starts PyBullet: only here
 
     return LocomotionEnv(

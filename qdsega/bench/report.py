@@ -8,6 +8,10 @@ figure per task (fraction against steps, log scale, mean line and min-max band).
 
 from __future__ import annotations
 
+import datetime
+import os
+import platform
+import subprocess
 from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -20,7 +24,7 @@ import numpy as np
 
 from qdsega.bench.curve import Curve
 from qdsega.bench.methods import ABLATIONS
-from qdsega.bench.runner import BenchRun
+from qdsega.bench.runs import BenchRun
 from qdsega.bench.tasks import BenchTask
 
 REACH = 0.9
@@ -240,3 +244,28 @@ def _throughput(rows: Sequence[tuple[str, str, float]], provenance: Provenance) 
     ]
     lines += [f"| {what} | {formation} | {value:,.0f} |" for what, formation, value in rows]
     return [*lines, ""]
+
+
+def provenance(command: str) -> Provenance:
+    """This machine, today, the checkout's commit, and ``command``."""
+    source = Path(__file__).resolve().parent
+    commit = _git(source, "rev-parse", "--short", "HEAD") or "unknown (not a git checkout)"
+    if _git(source, "status", "--porcelain", "--untracked-files=no"):
+        commit += " + changes"
+    machine = f"{platform.machine()} {platform.processor() or platform.system()}".strip()
+    return Provenance(
+        machine=f"{machine}, {os.cpu_count()} cores, Python {platform.python_version()}",
+        date=datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M UTC"),
+        commit=commit,
+        command=command,
+    )
+
+
+def _git(folder: Path, *args: str) -> str:
+    try:
+        done = subprocess.run(
+            ["git", *args], cwd=folder, capture_output=True, text=True, check=True, timeout=30
+        )
+    except (OSError, subprocess.SubprocessError):
+        return ""
+    return done.stdout.strip()

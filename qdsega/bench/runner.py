@@ -10,69 +10,19 @@ error, the others go on, and the report leaves it out.
 from __future__ import annotations
 
 import contextlib
-import datetime
 import multiprocessing
 import os
-import platform
-import subprocess
 import traceback
 from collections.abc import Callable, Iterator, Sequence
 from concurrent.futures import ProcessPoolExecutor, as_completed
-from dataclasses import dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING
 
 from qdsega.bench.curve import Curve
 from qdsega.bench.methods import METHODS
+from qdsega.bench.report import provenance, write_report
+from qdsega.bench.runs import BenchRun, bench_runs
 from qdsega.bench.tasks import BenchTask
-
-if TYPE_CHECKING:
-    from qdsega.bench.report import Provenance
-
-
-@dataclass(frozen=True)
-class BenchRun:
-    """One run of the benchmark.
-
-    Attributes:
-        task: the task.
-        method: a name of :data:`qdsega.bench.methods.METHODS`.
-        seed: the run's seed.
-    """
-
-    task: BenchTask
-    method: str
-    seed: int
-
-    @property
-    def name(self) -> str:
-        return f"{self.method}-seed{self.seed}"
-
-    def result(self, out: Path) -> Path:
-        """Where its curve is kept."""
-        return out / "results" / self.task.name / f"{self.name}.json"
-
-    def folder(self, out: Path) -> Path:
-        """Where it works."""
-        return out / "runs" / self.task.name / self.name
-
-
-def bench_runs(tasks: Sequence[BenchTask]) -> list[BenchRun]:
-    """Every run of ``tasks``, in report order.
-
-    Raises:
-        ValueError: a task names an unknown method.
-    """
-    for task in tasks:
-        unknown = sorted(set(task.methods) - set(METHODS))
-        if unknown:
-            raise ValueError(f"{task.name}: unknown methods {unknown} (known: {list(METHODS)})")
-    return [
-        BenchRun(task, method, seed)
-        for task in tasks
-        for method in task.methods
-        for seed in range(task.seeds)
-    ]
+from qdsega.bench.throughput import throughput
 
 
 def run_all(
@@ -151,8 +101,6 @@ def run_bench(
 ) -> tuple[Path, list[str]]:
     """Run the benchmark into ``out`` and write its report; return the report's file and the
     failed runs' errors."""
-    from qdsega.bench.report import write_report
-    from qdsega.bench.throughput import throughput
 
     made = provenance(command)
     runs = bench_runs(tasks)
@@ -168,30 +116,3 @@ def run_bench(
         out=out,
     )
     return file, errors
-
-
-def provenance(command: str) -> Provenance:
-    """This machine, today, the checkout's commit, and ``command``."""
-    from qdsega.bench.report import Provenance
-
-    source = Path(__file__).resolve().parent
-    commit = _git(source, "rev-parse", "--short", "HEAD") or "unknown (not a git checkout)"
-    if _git(source, "status", "--porcelain", "--untracked-files=no"):
-        commit += " + changes"
-    machine = f"{platform.machine()} {platform.processor() or platform.system()}".strip()
-    return Provenance(
-        machine=f"{machine}, {os.cpu_count()} cores, Python {platform.python_version()}",
-        date=datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M UTC"),
-        commit=commit,
-        command=command,
-    )
-
-
-def _git(folder: Path, *args: str) -> str:
-    try:
-        done = subprocess.run(
-            ["git", *args], cwd=folder, capture_output=True, text=True, check=True, timeout=30
-        )
-    except (OSError, subprocess.SubprocessError):
-        return ""
-    return done.stdout.strip()

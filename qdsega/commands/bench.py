@@ -29,7 +29,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from qdsega.bench.runner import bench_runs, run_bench
+    from qdsega.bench.runner import run_bench
+    from qdsega.bench.runs import bench_runs
     from qdsega.bench.tasks import FULL, QUICK
 
     if args.jobs < 1:

@@ -1,4 +1,4 @@
-"""The README's worked example (writing a formation) runs as written, on a tiny budget."""
+"""The worked example of docs/formations.md runs as written, on a tiny budget."""
 
 from __future__ import annotations
 
@@ -8,7 +8,7 @@ from pathlib import Path
 
 from helpers import run_cli
 
-README = Path(__file__).resolve().parents[1] / "README.md"
+GUIDE = Path(__file__).resolve().parents[1] / "docs" / "formations.md"
 TINY = """\
 workers: 1
 agent:
@@ -19,13 +19,13 @@ task: {trial_steps: 4}
 
 
 def _section(title: str) -> str:
-    text = README.read_text(encoding="utf-8")
+    text = GUIDE.read_text(encoding="utf-8")
     start = text.index(f"## {title}")
     return text[start : text.index("\n## ", start + 1)]
 
 
 def test_worked_example_runs_as_written(tmp_path):
-    section = _section("Writing a formation")
+    section = _section("Worked example")
     formation = re.search(r"```yaml\n(.*?)```", section, re.S).group(1)
     commands = re.search(r"```bash\n(.*?)```", section, re.S).group(1)
     (tmp_path / "assemblies").mkdir()
