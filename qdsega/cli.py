@@ -1,4 +1,5 @@
-"""The ``qdsega`` command: one subcommand per module in :mod:`qdsega.commands`."""
+"""qdsega: assemble modular robots from YAML, learn their locomotion with QDSEGA in PyBullet,
+and evaluate, film and report what they learnt."""
 
 from __future__ import annotations
 
@@ -10,7 +11,7 @@ from typing import TextIO
 
 from qdsega import __version__
 from qdsega.commands import assemble, bench, evaluate, plot, render, report, sweep, train
-from qdsega.errors import FormationError, QdsegaWarning
+from qdsega.errors import QdsegaError, QdsegaWarning
 
 ShowWarning = Callable[[Warning | str, type[Warning], str, int, TextIO | None, str | None], None]
 """The signature of ``warnings.showwarning``."""
@@ -39,7 +40,7 @@ def main(argv: Sequence[str] | None = None) -> int:
             warnings.simplefilter("always", QdsegaWarning)
             warnings.showwarning = _warning_printer(args.command, warnings.showwarning)
             return args.handler(args)
-    except FormationError as exc:
+    except QdsegaError as exc:
         print(f"qdsega {args.command}: error: {exc}", file=sys.stderr)
         return 2
     except KeyboardInterrupt:

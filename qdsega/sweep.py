@@ -38,7 +38,7 @@ from typing import Any
 import yaml
 
 from qdsega.description import load_formation, resolve_formation
-from qdsega.errors import FormationError
+from qdsega.errors import ConfigError
 from qdsega.training.config import SIMULATORS, default_preset, resolve_config
 from qdsega.training.run_folder import EVALUATION_FILE, SUMMARY_FILE, read_evaluation, read_summary
 
@@ -83,34 +83,34 @@ def read_grid(file: Path, out: Path) -> list[SweepRun]:
     """The runs of the grid ``file``, with their settings written to ``OUT/configs/``.
 
     Raises:
-        FormationError: unreadable grid, unknown key, a formation that does not load, a bad
+        ConfigError: unreadable grid, unknown key, a formation that does not load, a bad
             preset or setting (all checked before anything runs).
     """
     try:
         grid = yaml.safe_load(Path(file).read_text(encoding="utf-8"))
     except (OSError, yaml.YAMLError) as exc:
-        raise FormationError(f"cannot read the grid: {exc}", file=file) from None
+        raise ConfigError(f"cannot read the grid: {exc}", file=file) from None
     if not isinstance(grid, dict) or "formations" not in grid:
-        raise FormationError("a grid is a mapping with at least formations: [...]", file=file)
+        raise ConfigError("a grid is a mapping with at least formations: [...]", file=file)
     unknown = sorted(set(grid) - set(GRID_KEYS))
     if unknown:
         message = f"unknown key {unknown[0]!r} (known: {', '.join(GRID_KEYS)})"
-        raise FormationError(message, file=file)
+        raise ConfigError(message, file=file)
     sim = grid.get("sim", "memo")
     if sim not in SIMULATORS:
-        raise FormationError(
+        raise ConfigError(
             f"sim must be one of {', '.join(SIMULATORS)}", file=file, key_path="sim"
         )
     seeds = _list_of(grid.get("seeds", [0]), int, file, "seeds")
     presets = _list_of(grid.get("presets", [None]), str, file, "presets", optional=True)
     configs = grid.get("configs", {"default": {}})
     if not isinstance(configs, dict) or not configs:
-        raise FormationError(
+        raise ConfigError(
             "expected a mapping of names to settings", file=file, key_path="configs"
         )
     trials = grid.get("reference_trials")
     if trials is not None and (isinstance(trials, bool) or not isinstance(trials, int)):
-        raise FormationError("expected an integer", file=file, key_path="reference_trials")
+        raise ConfigError("expected an integer", file=file, key_path="reference_trials")
     formations = []
     for given in _list_of(grid["formations"], str, file, "formations"):
         path = Path(given)
@@ -122,20 +122,20 @@ def read_grid(file: Path, out: Path) -> list[SweepRun]:
     for name, settings in configs.items():
         if not str(name).replace("_", "").replace("-", "").isalnum():
             message = f"config name {name!r}: letters, digits, - and _ only (it names folders)"
-            raise FormationError(message, file=file)
+            raise ConfigError(message, file=file)
         if not isinstance(settings or {}, dict):
-            raise FormationError("expected a mapping", file=file, key_path=f"configs.{name}")
+            raise ConfigError("expected a mapping", file=file, key_path=f"configs.{name}")
         settings_of[str(name)] = settings or {}
         axes = sorted({"preset", "sim", "seed"} & set(settings_of[str(name)]))
         if axes:
             message = f"{axes[0]} is the grid's to set (presets, sim, seeds), not a config's"
-            raise FormationError(message, file=file, key_path=f"configs.{name}")
+            raise ConfigError(message, file=file, key_path=f"configs.{name}")
         for preset in presets:
             overrides = {**settings_of[str(name)], "sim": sim}
             try:
                 resolve_config(preset=preset or "paper-legged", overrides=overrides)
-            except FormationError as exc:
-                raise FormationError(str(exc), file=file, key_path=f"configs.{name}") from None
+            except ConfigError as exc:
+                raise ConfigError(str(exc), file=file, key_path=f"configs.{name}") from None
     runs = []
     for (path, formation), preset, name, seed in itertools.product(
         formations, presets, settings_of, seeds
@@ -147,7 +147,7 @@ def read_grid(file: Path, out: Path) -> list[SweepRun]:
     names = [r.name for r in runs]
     if len(set(names)) != len(names):
         message = "two formations share a file name: their runs would share a folder"
-        raise FormationError(message, file=file)
+        raise ConfigError(message, file=file)
     for name, settings in settings_of.items():  # written once everything is checked
         (out / "configs").mkdir(parents=True, exist_ok=True)
         text = yaml.safe_dump(settings, sort_keys=True)
@@ -160,7 +160,7 @@ def _list_of(value: Any, kind: type, file: Path, key: str, *, optional: bool = F
     if not items or not all(
         (isinstance(v, kind) and not isinstance(v, bool)) or (optional and v is None) for v in items
     ):
-        raise FormationError(f"expected a list of {kind.__name__}", file=file, key_path=key)
+        raise ConfigError(f"expected a list of {kind.__name__}", file=file, key_path=key)
     return items
 
 

@@ -15,7 +15,7 @@ from typing import Any
 
 import yaml
 
-from qdsega.errors import FormationError
+from qdsega.errors import FormationError, QdsegaError
 
 KeyPath = tuple[str | int, ...]
 
@@ -62,6 +62,7 @@ class YamlDocument:
     file: Path
     data: Any
     lines: dict[KeyPath, int]
+    error_type: type[QdsegaError] = FormationError
 
     def line(self, path: KeyPath) -> int | None:
         """Line of ``path``, or of its nearest ancestor that has one."""
@@ -70,40 +71,41 @@ class YamlDocument:
                 return self.lines[path[:end]]
         return None
 
-    def error(self, path: KeyPath, message: str) -> FormationError:
-        """A :class:`FormationError` located at ``path`` in this file."""
-        return FormationError(
+    def error(self, path: KeyPath, message: str) -> QdsegaError:
+        """An error of this file's kind located at ``path`` in it."""
+        return self.error_type(
             message, file=self.file, line=self.line(path), key_path=format_key_path(path) or None
         )
 
 
-def load_yaml(file: Path) -> YamlDocument:
-    """Read ``file`` as plain YAML; raise :class:`FormationError` for anything else."""
+def load_yaml(file: Path, *, error_type: type[QdsegaError] = FormationError) -> YamlDocument:
+    """Read ``file`` as plain YAML; raise ``error_type`` (a formation's by default) for anything
+    else, with the file, line and key path."""
     try:
         size = file.stat().st_size
         if size > MAX_FILE_BYTES:
-            raise FormationError(f"file is {size} bytes; at most {MAX_FILE_BYTES}", file=file)
+            raise error_type(f"file is {size} bytes; at most {MAX_FILE_BYTES}", file=file)
         text = file.read_text(encoding="utf-8")
     except FileNotFoundError:
-        raise FormationError("file not found", file=file) from None
+        raise error_type("file not found", file=file) from None
     except (OSError, UnicodeDecodeError) as exc:
-        raise FormationError(f"cannot read file ({exc.__class__.__name__})", file=file) from None
+        raise error_type(f"cannot read file ({exc.__class__.__name__})", file=file) from None
     try:
         root = yaml.compose(text, Loader=yaml.SafeLoader)
     except RecursionError:
-        raise FormationError(f"nested deeper than {MAX_YAML_DEPTH} levels", file=file) from None
+        raise error_type(f"nested deeper than {MAX_YAML_DEPTH} levels", file=file) from None
     except yaml.MarkedYAMLError as exc:
         mark = exc.problem_mark or exc.context_mark
         line = None if mark is None else mark.line + 1
         problem = exc.problem or exc.context or "invalid YAML"
-        raise FormationError(f"YAML syntax error: {problem}", file=file, line=line) from None
+        raise error_type(f"YAML syntax error: {problem}", file=file, line=line) from None
     except yaml.YAMLError as exc:
-        raise FormationError(f"YAML error: {exc}", file=file) from None
+        raise error_type(f"YAML error: {exc}", file=file) from None
     if root is None:
-        raise FormationError("file is empty", file=file)
-    converter = _Converter(file)
+        raise error_type("file is empty", file=file)
+    converter = _Converter(file, error_type)
     data = converter.plain(root, ())
-    return YamlDocument(file=file, data=data, lines=converter.lines)
+    return YamlDocument(file=file, data=data, lines=converter.lines, error_type=error_type)
 
 
 _SCALAR_CONSTRUCTOR = yaml.SafeLoader("")
@@ -117,8 +119,9 @@ class _Converter:
     anchor is refused.
     """
 
-    def __init__(self, file: Path) -> None:
+    def __init__(self, file: Path, error_type: type[QdsegaError]) -> None:
         self.file = file
+        self.error_type = error_type
         self.lines: dict[KeyPath, int] = {}
         self.values = 0
         self.open: set[int] = set()
@@ -128,41 +131,41 @@ class _Converter:
         file = self.file
         where = {"file": file, "line": node.start_mark.line + 1, "key_path": format_key_path(path)}
         if id(node) in self.open:
-            raise FormationError("a YAML alias inside its own anchor", **where)
+            raise self.error_type("a YAML alias inside its own anchor", **where)
         self.values += 1
         if self.values > MAX_YAML_VALUES:
-            raise FormationError(f"more than {MAX_YAML_VALUES} values (aliases expanded)", **where)
+            raise self.error_type(f"more than {MAX_YAML_VALUES} values (aliases expanded)", **where)
         if record:
             self.lines[path] = node.start_mark.line + 1
         if len(path) > MAX_YAML_DEPTH:
-            raise FormationError(f"nested deeper than {MAX_YAML_DEPTH} levels", **where)
+            raise self.error_type(f"nested deeper than {MAX_YAML_DEPTH} levels", **where)
         if isinstance(node, yaml.ScalarNode):
             try:
                 return _SCALAR_CONSTRUCTOR.construct_object(node)
             except yaml.constructor.ConstructorError:
-                raise FormationError(f"unsupported YAML tag {node.tag}", **where) from None
+                raise self.error_type(f"unsupported YAML tag {node.tag}", **where) from None
             except ValueError:  # an integer of more digits than Python converts
                 message = f"a number of {len(node.value)} digits is too long"
-                raise FormationError(message, **where) from None
+                raise self.error_type(message, **where) from None
         if isinstance(node, yaml.SequenceNode):
             if node.tag != "tag:yaml.org,2002:seq":
-                raise FormationError(f"unsupported YAML tag {node.tag}", **where)
+                raise self.error_type(f"unsupported YAML tag {node.tag}", **where)
             self.open.add(id(node))
             items = [self.plain(item, (*path, i)) for i, item in enumerate(node.value)]
             self.open.discard(id(node))
             return items
         if not isinstance(node, yaml.MappingNode):  # pragma: no cover - yaml has 3 kinds
-            raise FormationError("unsupported YAML node", **where)
+            raise self.error_type("unsupported YAML node", **where)
         if node.tag != "tag:yaml.org,2002:map":
-            raise FormationError(f"unsupported YAML tag {node.tag}", **where)
+            raise self.error_type(f"unsupported YAML tag {node.tag}", **where)
         self.open.add(id(node))
         result: dict[str, Any] = {}
         for key_node, value_node in node.value:
             key = self.plain(key_node, path, record=False)
             if not isinstance(key, str):
-                raise FormationError(f"keys must be text, got {_clip(key)}", **where)
+                raise self.error_type(f"keys must be text, got {_clip(key)}", **where)
             if key in result:
-                raise FormationError(
+                raise self.error_type(
                     "duplicate key",
                     file=file,
                     line=key_node.start_mark.line + 1,
@@ -179,7 +182,7 @@ class Reader:
     def __init__(self, document: YamlDocument) -> None:
         self.document = document
 
-    def error(self, path: KeyPath, message: str) -> FormationError:
+    def error(self, path: KeyPath, message: str) -> QdsegaError:
         return self.document.error(path, message)
 
     def mapping(

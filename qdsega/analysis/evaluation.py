@@ -46,7 +46,7 @@ from qdsega.baselines.reference_search import (
     reference_gait,
 )
 from qdsega.description import Formation, load_formation, resolve_formation
-from qdsega.errors import FormationError
+from qdsega.errors import ConfigError, RunFolderError
 from qdsega.locomotion.env import LocomotionEnv, replay_postures
 from qdsega.locomotion.env_world import EnvWorld
 from qdsega.training.config import TrainingConfig, read_run_config
@@ -71,12 +71,12 @@ def evaluate_run(
         reference_trials: the CMA-ES reference search's budget in trials (0: no search).
 
     Raises:
-        FormationError: missing or corrupt run folder; a negative search budget, or one below
+        RunFolderError: missing or corrupt run folder; a negative search budget, or one below
             one CMA-ES generation.
     """
     if reference_trials < 0:
         message = f"--reference-trials must be 0 (no search) or more, got {reference_trials}"
-        raise FormationError(message)
+        raise ConfigError(message)
     run = Path(run)
     summary, config, policy = load_run(run)
     formation = load_run_formation(run, config)
@@ -84,7 +84,7 @@ def evaluate_run(
         try:
             check_budget(formation, reference_trials)  # before any physics
         except ValueError as exc:
-            raise FormationError(f"reference search: {exc}") from None
+            raise ConfigError(f"reference search: {exc}") from None
     env = exact_env(formation, config)
     try:
         learned = replay_policy(env, policy)
@@ -120,7 +120,7 @@ def evaluate_on(run: Path | str, other: Path | str) -> tuple[dict[str, Any], Pat
     under the run's rules; write ``RUN/evaluation-on-NAME.json``; return it and its path.
 
     Raises:
-        FormationError: missing or corrupt run folder; a bad formation, or one the run's
+        RunFolderError: missing or corrupt run folder; a bad formation, or one the run's
             lower agent cannot drive.
     """
     run = Path(run)
@@ -206,7 +206,7 @@ def searched_reference(
             workers=config.workers,
         )
     except ValueError as exc:
-        raise FormationError(f"reference search: {exc}") from None
+        raise ConfigError(f"reference search: {exc}") from None
     replay = replay_postures(env, found.postures)
     return {
         "kind": "CPG gait searched by CMA-ES",
@@ -261,7 +261,7 @@ def load_run(run: Path) -> tuple[dict[str, Any], TrainingConfig, GreedyPolicy]:
     """A finished run folder's summary, configuration and greedy policy.
 
     Raises:
-        FormationError: missing folder or files, or files that do not parse.
+        RunFolderError: missing folder or files, or files that do not parse.
     """
     require_finished(run, "config.yaml", POLICY_FILE)
     config = read_run_config(run)
@@ -269,5 +269,5 @@ def load_run(run: Path) -> tuple[dict[str, Any], TrainingConfig, GreedyPolicy]:
     try:
         policy = GreedyPolicy.load(run / POLICY_FILE)
     except ValueError as exc:
-        raise FormationError(f"corrupt run folder ({exc})", file=run) from None
+        raise RunFolderError(f"corrupt run folder ({exc})", file=run) from None
     return summary, config, policy

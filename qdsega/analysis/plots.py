@@ -14,7 +14,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 from matplotlib.ticker import MaxNLocator
 
-from qdsega.errors import FormationError
+from qdsega.errors import RunFolderError
 from qdsega.training.run_folder import read_evaluation, read_summary, require_finished
 
 LEARNING_CURVE = "learning_curve.png"
@@ -44,7 +44,7 @@ def plot_run(run: Path | str, *, fresh: Path | None = None) -> tuple[list[Path],
         The figures written, and a note for each figure left out (and why).
 
     Raises:
-        FormationError: the folder (or ``fresh``) is not a finished run folder, or its files
+        RunFolderError: the folder (or ``fresh``) is not a finished run folder, or its files
             do not parse.
     """
     run = Path(run)
@@ -55,7 +55,7 @@ def plot_run(run: Path | str, *, fresh: Path | None = None) -> tuple[list[Path],
             poses, legs, names = data["exact_poses"], data["gait_legs"], data["leg_names"]
             light, angles, joints = data["light"], data["gait_angles_deg"], data["joint_names"]
     except (OSError, ValueError, KeyError) as exc:
-        raise FormationError(f"corrupt run folder ({exc})", file=run) from None
+        raise RunFolderError(f"corrupt run folder ({exc})", file=run) from None
     metrics = read_metrics(run)
     notes = []
     baseline = None
@@ -85,7 +85,7 @@ def read_metrics(run: Path) -> dict[str, np.ndarray]:
     """A run's ``metrics.csv``, one array per column (one entry per generation).
 
     Raises:
-        FormationError: the file is missing, empty or does not parse.
+        RunFolderError: the file is missing, empty or does not parse.
     """
     try:
         with (run / "metrics.csv").open(encoding="utf-8") as stream:
@@ -94,7 +94,7 @@ def read_metrics(run: Path) -> dict[str, np.ndarray]:
             raise ValueError("metrics.csv has no generations")
         return {key: np.array([row[key] for row in rows], dtype=float) for key in rows[0]}
     except (OSError, ValueError, KeyError) as exc:
-        raise FormationError(f"corrupt run folder ({exc})", file=run) from None
+        raise RunFolderError(f"corrupt run folder ({exc})", file=run) from None
 
 
 def fresh_sibling(run: Path, summary: dict[str, Any]) -> Path | None:
@@ -106,7 +106,7 @@ def fresh_sibling(run: Path, summary: dict[str, Any]) -> Path | None:
             continue
         try:
             other = read_summary(folder)
-        except FormationError:
+        except RunFolderError:
             continue
         if (
             other.get("warm_start") is None

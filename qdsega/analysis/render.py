@@ -10,7 +10,7 @@ from qdsega.analysis.evaluation import load_run, replay_policy
 from qdsega.analysis.recorder import Film, record
 from qdsega.analysis.video import VIDEO_SUFFIXES, write_video
 from qdsega.description import Formation
-from qdsega.errors import FormationError
+from qdsega.errors import ConfigError, FormationError
 from qdsega.locomotion.env import LocomotionEnv
 from qdsega.simulation.camera import CameraConfig
 from qdsega.training.formation_copy import load_run_formation
@@ -71,4 +71,4 @@ def read_postures(file: Path, joints: int) -> np.ndarray:
 
 def _check_suffix(out: Path) -> None:
     if out.suffix.lower() not in VIDEO_SUFFIXES:
-        raise FormationError(f"video must end in {' or '.join(VIDEO_SUFFIXES)}", file=out)
+        raise ConfigError(f"video must end in {' or '.join(VIDEO_SUFFIXES)}", file=out)

@@ -16,7 +16,7 @@ from typing import Any
 
 from qdsega.analysis.plots import FIGURES
 from qdsega.atomic import replaced_atomically
-from qdsega.errors import FormationError
+from qdsega.errors import RunFolderError
 from qdsega.training.formation_copy import FORMATION_DIR, read_formation_record
 from qdsega.training.reconfiguration import describe
 from qdsega.training.run_folder import read_evaluation, read_summary, require_finished
@@ -39,7 +39,7 @@ def write_report(run: Path | str, out: Path | None = None) -> Path:
     """Write the report of ``run`` to ``out`` (default ``RUN/report.html``); return its path.
 
     Raises:
-        FormationError: not a finished run folder, or its files do not parse.
+        RunFolderError: not a finished run folder, or its files do not parse.
     """
     run = Path(run)
     require_finished(run, "config.yaml")
@@ -49,7 +49,7 @@ def write_report(run: Path | str, out: Path | None = None) -> Path:
         config = (run / "config.yaml").read_text(encoding="utf-8")
         formation = (run / FORMATION_DIR / record.formation).read_text(encoding="utf-8")
     except OSError as exc:
-        raise FormationError(f"corrupt run folder ({exc})", file=run) from None
+        raise RunFolderError(f"corrupt run folder ({exc})", file=run) from None
     title = f"qdsega run: {summary['formation']} ({summary.get('sim')}, seed {summary.get('seed')})"
     parts = [
         f"<h1>{html.escape(title)}</h1>",
@@ -149,7 +149,7 @@ def _transfers(run: Path) -> list[str]:
                 f"{result['distance_m']:.4f} m{failure}; {describe(result['joints'])}"
             )
         except (OSError, ValueError, KeyError) as exc:
-            raise FormationError(f"corrupt run folder ({file.name}: {exc})", file=run) from None
+            raise RunFolderError(f"corrupt run folder ({file.name}: {exc})", file=run) from None
     if not rows:
         return []
     return ["<h2>This policy on other bodies (exact physics)</h2>", _table(rows)]

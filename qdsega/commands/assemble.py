@@ -6,7 +6,7 @@ import argparse
 import time
 from pathlib import Path
 
-from qdsega.errors import FormationError
+from qdsega.errors import ConfigError
 
 NAME = "assemble"
 HELP = "assemble formation YAML files into URDF files"
@@ -38,7 +38,7 @@ def run(args: argparse.Namespace) -> int:
     from qdsega.description import load_formation, resolve_formation
 
     if args.output is not None and len(args.formations) > 1:
-        raise FormationError("-o/--output takes one formation; use --out-dir for several")
+        raise ConfigError("-o/--output takes one formation; use --out-dir for several")
     rows = []
     for file in args.formations:
         start = time.perf_counter()

@@ -7,7 +7,7 @@ import importlib.util
 import sys
 from pathlib import Path
 
-from qdsega.errors import FormationError
+from qdsega.errors import ConfigError
 
 NAME = "bench"
 HELP = (
@@ -34,13 +34,13 @@ def run(args: argparse.Namespace) -> int:
     from qdsega.bench.tasks import FULL, QUICK
 
     if args.jobs < 1:
-        raise FormationError(f"--jobs must be at least 1, got {args.jobs}")
+        raise ConfigError(f"--jobs must be at least 1, got {args.jobs}")
     tasks = QUICK if args.quick else FULL
     if (
         any("ppo" in t.methods for t in tasks)
         and importlib.util.find_spec("stable_baselines3") is None
     ):
-        raise FormationError("the ppo method needs stable-baselines3: pip install 'qdsega[bench]'")
+        raise ConfigError("the ppo method needs stable-baselines3: pip install 'qdsega[bench]'")
     out = args.out or Path("runs/bench-quick" if args.quick else "benchmarks")
     command = "qdsega bench" + (" --quick" if args.quick else "") + f" --out {out}"
     print(f"qdsega bench: {len(bench_runs(tasks))} runs -> {out}", flush=True)

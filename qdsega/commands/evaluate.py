@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from qdsega.errors import FormationError
+from qdsega.errors import ConfigError
 
 NAME = "evaluate"
 HELP = "replay a run's greedy policy in PyBullet and compare it with a reference gait"
@@ -37,7 +37,7 @@ def run(args: argparse.Namespace) -> int:
 
     if args.formation is not None:
         if args.reference_trials is not None:
-            raise FormationError("--reference-trials does not go with --formation")
+            raise ConfigError("--reference-trials does not go with --formation")
         result, file = evaluate_on(args.run, args.formation)
         joints = describe(result["joints"])
         failure = "" if result["failure"] is None else f" (failed: {result['failure']})"

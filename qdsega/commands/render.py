@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from qdsega.errors import FormationError
+from qdsega.errors import ConfigError, FormationError
 
 NAME = "render"
 HELP = "render a run's greedy policy (or a formation and a posture sequence) as MP4 or GIF"
@@ -49,7 +49,7 @@ def run(args: argparse.Namespace) -> int:
             fov_deg=args.fov,
         )
     except ValueError as exc:
-        raise FormationError(str(exc)) from None
+        raise ConfigError(str(exc)) from None
     if args.source.is_dir():
         film = render_run(args.source, args.output, camera)
     elif args.postures is None:

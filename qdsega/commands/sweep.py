@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from qdsega.errors import FormationError
+from qdsega.errors import ConfigError
 from qdsega.sweep import SweepRun, read_grid, run_sweep
 
 NAME = "sweep"
@@ -34,7 +34,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> int:
     if args.jobs < 1:
-        raise FormationError(f"--jobs must be at least 1, got {args.jobs}")
+        raise ConfigError(f"--jobs must be at least 1, got {args.jobs}")
     if args.ray is not None:  # refused here, before anything is written
         from qdsega.workers.ray_cluster import connect
 

@@ -8,7 +8,7 @@ from pathlib import Path
 
 from qdsega.agent.config import PRESETS
 from qdsega.description import resolve_formation
-from qdsega.errors import FormationError
+from qdsega.errors import ConfigError
 from qdsega.training.config import DEFAULT_PRESET, SIMULATORS, TrainingConfig, resolve_config
 from qdsega.training.progress import ProgressDisplay
 from qdsega.training.run import TrainingInterrupted, budget_overrides, resume, train
@@ -96,23 +96,23 @@ def run(args: argparse.Namespace) -> int:
         ]
         if args.formation is not None or given:
             extra = ", ".join(([str(args.formation)] if args.formation else []) + given)
-            raise FormationError(f"--resume continues a run as it was configured; drop {extra}")
+            raise ConfigError(f"--resume continues a run as it was configured; drop {extra}")
         out = args.resume
         start = partial(resume, out, progress=progress)
     else:
         if args.formation is None:
-            raise FormationError("give a FORMATION.yaml to train, or --resume RUN")
+            raise ConfigError("give a FORMATION.yaml to train, or --resume RUN")
         args.formation = resolve_formation(args.formation)
         config = run_config(args)
         if config.ray is not None:  # refused here, before the run folder exists
             if config.sim != "memo":
-                raise FormationError("--ray measures memo transitions: it goes with --sim memo")
+                raise ConfigError("--ray measures memo transitions: it goes with --sim memo")
             from qdsega.workers.ray_cluster import connect
 
             connect(config.ray, cpus=config.workers)
         out = args.out or RUNS_DIR / f"{args.formation.stem}-{config.sim}-seed{config.seed}"
         if args.allow_unmatched and args.warm_start is None:
-            raise FormationError("--allow-unmatched goes with --warm-start RUN")
+            raise ConfigError("--allow-unmatched goes with --warm-start RUN")
         start = partial(
             train,
             args.formation,
@@ -152,7 +152,7 @@ def run_config(args: argparse.Namespace) -> TrainingConfig:
     that were given.
 
     Raises:
-        FormationError: unknown preset, bad configuration file or value.
+        ConfigError: unknown preset, bad configuration file or value.
     """
     overrides = budget_overrides(generations=args.generations, trials=args.trials, seed=args.seed)
     for key in ("sim", "workers", "ray", "light_bearing_deg"):

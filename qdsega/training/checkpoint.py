@@ -22,7 +22,7 @@ from qdsega.agent.learner import LearnerState
 from qdsega.agent.policy import GreedyPolicy
 from qdsega.agent.space import ExplorationSpace
 from qdsega.atomic import replaced_atomically
-from qdsega.errors import FormationError
+from qdsega.errors import RunFolderError
 
 CHECKPOINT_FILE = "checkpoint.npz"
 
@@ -137,7 +137,7 @@ def load_checkpoint(run: Path) -> Checkpoint | None:
     first was written).
 
     Raises:
-        FormationError: a checkpoint that does not parse.
+        RunFolderError: a checkpoint that does not parse.
     """
     file = run / CHECKPOINT_FILE
     if not file.is_file():
@@ -180,4 +180,4 @@ def load_checkpoint(run: Path) -> Checkpoint | None:
             )
     except (OSError, ValueError, KeyError, TypeError, zipfile.BadZipFile) as exc:
         message = f"corrupt {CHECKPOINT_FILE} ({exc.__class__.__name__}: {exc})"
-        raise FormationError(message, file=run) from None
+        raise RunFolderError(message, file=run) from None

@@ -15,7 +15,7 @@ for example::
 
 ``preset:`` picks the preset the other keys change (``--preset`` picks it over the file's);
 every other key overrides the preset's value, and flags override the file.
-Unknown keys and values of the wrong type are errors (:class:`qdsega.errors.FormationError`).
+Unknown keys and values of the wrong type are errors (:class:`qdsega.errors.ConfigError`).
 """
 
 from __future__ import annotations
@@ -28,15 +28,14 @@ from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
-import yaml
-
 from qdsega.agent.config import PRESETS, QDSEGAConfig
 from qdsega.description import Formation, Light
-from qdsega.errors import FormationError
+from qdsega.errors import ConfigError, QdsegaError, RunFolderError
 from qdsega.locomotion.lower_agent import LowerAgentConfig
 from qdsega.msm import MSMParameters
 from qdsega.simulation import PhysicsSettings
 from qdsega.task import TaskConfig
+from qdsega.yaml_reader import KeyPath, YamlDocument, format_key_path, load_yaml
 
 SIMULATORS = ("msm", "memo", "pybullet")
 """Worlds ``qdsega train`` can learn in (:mod:`qdsega.training.sims`)."""
@@ -153,28 +152,24 @@ def resolve_config(
     ``preset``), else :data:`DEFAULT_PRESET`.
 
     Raises:
-        FormationError: unknown preset, unreadable file, unknown key or bad value.
+        ConfigError: unknown preset, unreadable file, unknown key or bad value (with the file's
+            line where it has one).
     """
-    data: dict[str, Any] = {}
-    if file is not None:
-        try:
-            data = yaml.safe_load(Path(file).read_text(encoding="utf-8")) or {}
-        except (OSError, yaml.YAMLError) as exc:
-            raise FormationError(f"cannot read the configuration: {exc}", file=file) from None
-        if not isinstance(data, dict):
-            raise FormationError("expected a mapping", file=file)
-    layers = [(data, file), (overrides or {}, None)]
+    document = None if file is None else load_yaml(Path(file), error_type=ConfigError)
+    if document is not None and not isinstance(document.data, dict):
+        raise document.error((), "expected a mapping of settings")
+    layers = [(document.data if document else {}, document), (overrides or {}, None)]
     for layer, source in reversed(layers):
         if preset is None and "preset" in layer:
-            preset = _convert(layer["preset"], str, "preset", source)
+            preset = _convert(layer["preset"], str, ("preset",), source)
     preset = preset or DEFAULT_PRESET
     if preset not in PRESETS:
-        raise FormationError(f"unknown preset {preset!r} (known: {', '.join(PRESETS)})")
+        raise ConfigError(f"unknown preset {preset!r} (known: {', '.join(PRESETS)})")
     config = TrainingConfig(preset=preset, agent=PRESETS[preset].agent, task=PRESETS[preset].task)
     for layer, source in layers:
-        config = _merge(config, {k: v for k, v in layer.items() if k != "preset"}, "", source)
+        config = _merge(config, {k: v for k, v in layer.items() if k != "preset"}, (), source)
     if config.sim not in SIMULATORS:
-        raise FormationError(f"sim must be one of {', '.join(SIMULATORS)}, got {config.sim!r}")
+        raise ConfigError(f"sim must be one of {', '.join(SIMULATORS)}, got {config.sim!r}")
     return config
 
 
@@ -182,43 +177,51 @@ def read_run_config(run: Path) -> TrainingConfig:
     """The configuration a run folder was trained with (its ``config.yaml``).
 
     Raises:
-        FormationError: no config.yaml, or one that is not a configuration.
+        RunFolderError: no config.yaml, or one that is not a configuration.
     """
     file = run / "config.yaml"
     if not file.is_file():
-        raise FormationError("not a run folder (no config.yaml)", file=run)
+        raise RunFolderError("not a run folder (no config.yaml)", file=run)
     try:
-        data = yaml.safe_load(file.read_text(encoding="utf-8"))
-    except (OSError, yaml.YAMLError) as exc:
-        raise FormationError(f"corrupt config.yaml ({exc})", file=run) from None
-    if not isinstance(data, dict) or "preset" not in data:
-        raise FormationError("corrupt run folder (config.yaml is not a configuration)", file=run)
-    return resolve_config(file=file)
+        data = load_yaml(file, error_type=RunFolderError).data
+        if not isinstance(data, dict) or "preset" not in data:
+            raise RunFolderError("config.yaml is not a configuration", file=file)
+        return resolve_config(file=file)
+    except QdsegaError as exc:
+        raise RunFolderError(f"corrupt run folder ({exc})", file=run) from None
 
 
-def _merge(instance: Any, data: Any, path: str, file: Path | None) -> Any:
+def _error(message: str, path: KeyPath, source: YamlDocument | None) -> ConfigError:
+    """A configuration error at ``path``, with its file and line where it came from one."""
+    if source is not None:
+        return ConfigError(
+            message, file=source.file, line=source.line(path), key_path=format_key_path(path)
+        )
+    return ConfigError(message, key_path=format_key_path(path) or None)
+
+
+def _merge(instance: Any, data: Any, path: KeyPath, source: YamlDocument | None) -> Any:
     if not isinstance(data, dict):
-        raise FormationError("expected a mapping", file=file, key_path=path or None)
+        raise _error("expected a mapping", path, source)
     hints = typing.get_type_hints(type(instance))
     names = {f.name for f in dataclasses.fields(instance)}
     changes = {}
     for key, value in data.items():
-        key_path = f"{path}.{key}" if path else str(key)
+        key_path = (*path, key)
         if key not in names:
-            known = ", ".join(sorted(names))
-            raise FormationError(f"unknown key (known: {known})", file=file, key_path=key_path)
+            raise _error(f"unknown key (known: {', '.join(sorted(names))})", key_path, source)
         current = getattr(instance, key)
         if dataclasses.is_dataclass(current):
-            changes[key] = _merge(current, value, key_path, file)
+            changes[key] = _merge(current, value, key_path, source)
         else:
-            changes[key] = _convert(value, hints[key], key_path, file)
+            changes[key] = _convert(value, hints[key], key_path, source)
     try:
         return replace(instance, **changes)
     except ValueError as exc:
-        raise FormationError(str(exc), file=file, key_path=path or None) from None
+        raise _error(str(exc), path, source) from None
 
 
-def _convert(value: Any, hint: Any, path: str, file: Path | None) -> Any:
+def _convert(value: Any, hint: Any, path: KeyPath, source: YamlDocument | None) -> Any:
     origin, args = typing.get_origin(hint), typing.get_args(hint)
     if origin in (typing.Union, types.UnionType):
         if value is None and type(None) in args:
@@ -227,30 +230,31 @@ def _convert(value: Any, hint: Any, path: str, file: Path | None) -> Any:
         origin, args = typing.get_origin(hint), typing.get_args(hint)
     if origin is tuple:
         if not isinstance(value, list | tuple):
-            raise FormationError("expected a list", file=file, key_path=path)
-        return tuple(_convert(v, args[0], f"{path}[{i}]", file) for i, v in enumerate(value))
+            raise _error("expected a list", path, source)
+        return tuple(_convert(v, args[0], (*path, i), source) for i, v in enumerate(value))
     if origin is typing.Literal:
         if value not in args:
-            choices = ", ".join(map(str, args))
-            raise FormationError(f"expected one of {choices}", file=file, key_path=path)
+            raise _error(f"expected one of {', '.join(map(str, args))}", path, source)
         return value
     if hint is bool:
         if not isinstance(value, bool):
-            raise FormationError("expected true or false", file=file, key_path=path)
+            raise _error("expected true or false", path, source)
         return value
     if hint is int:
         if isinstance(value, bool) or not isinstance(value, int):
-            raise FormationError("expected an integer", file=file, key_path=path)
+            raise _error("expected an integer", path, source)
         return value
     if hint is float:
         if isinstance(value, bool) or not isinstance(value, int | float):
-            raise FormationError("expected a number", file=file, key_path=path)
+            raise _error("expected a number", path, source)
+        if not math.isfinite(value):
+            raise _error(f"expected a finite number, got {value}", path, source)
         return float(value)
     if hint is str:
         if not isinstance(value, str):
-            raise FormationError("expected text", file=file, key_path=path)
+            raise _error("expected text", path, source)
         return value
-    raise FormationError(f"unsupported setting type {hint}", file=file, key_path=path)
+    raise _error(f"unsupported setting type {hint}", path, source)
 
 
 def _plain(value: Any) -> Any:

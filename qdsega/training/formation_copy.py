@@ -29,7 +29,7 @@ from typing import Any
 from qdsega.atomic import replaced_atomically
 from qdsega.description import Formation, load_formation
 from qdsega.description.unit_type import mesh_files
-from qdsega.errors import FormationError, QdsegaWarning
+from qdsega.errors import FormationError, QdsegaWarning, RunFolderError
 from qdsega.training.config import TrainingConfig
 
 FORMATION_DIR = "formation"
@@ -128,7 +128,7 @@ def load_run_formation(run: Path, config: TrainingConfig) -> Formation:
     changed since the run copied them.
 
     Raises:
-        FormationError: no copy, or one that does not match its hashes.
+        RunFolderError: no copy, or one that does not match its hashes.
     """
     record = read_formation_record(run)
     copy = run / FORMATION_DIR
@@ -137,7 +137,7 @@ def load_run_formation(run: Path, config: TrainingConfig) -> Formation:
         if not file.is_file() or _sha256(file.read_bytes()) != sha:
             state = "is missing" if not file.is_file() else "differs from its sha256"
             message = f"corrupt run folder ({FORMATION_DIR}/{path} {state} in {FORMATION_RECORD})"
-            raise FormationError(message, file=run)
+            raise RunFolderError(message, file=run)
     if Path(record.source_file).is_file():
         now = content_hash({path: _source_sha256(record.source(path)) for path in record.files})
         if now != record.sha256:
@@ -155,11 +155,11 @@ def read_formation_record(run: Path) -> FormationRecord:
     """The run's ``formation.json``.
 
     Raises:
-        FormationError: the file is missing or is not a record.
+        RunFolderError: the file is missing or is not a record.
     """
     file = run / FORMATION_RECORD
     if not file.is_file():
-        raise FormationError(
+        raise RunFolderError(
             f"no copy of the formation ({FORMATION_RECORD}): the run stopped before it was "
             "made, or an older qdsega wrote it; start the run again with "
             f"qdsega train FORMATION --out {run} --overwrite",
@@ -170,9 +170,9 @@ def read_formation_record(run: Path) -> FormationRecord:
         record = FormationRecord(**data)
     except (OSError, ValueError, TypeError) as exc:
         message = f"corrupt {FORMATION_RECORD} ({exc.__class__.__name__}: {exc})"
-        raise FormationError(message, file=run) from None
+        raise RunFolderError(message, file=run) from None
     if not isinstance(record.files, dict) or record.formation not in record.files:
-        raise FormationError(f"corrupt {FORMATION_RECORD} (no formation file listed)", file=run)
+        raise RunFolderError(f"corrupt {FORMATION_RECORD} (no formation file listed)", file=run)
     return record
 
 

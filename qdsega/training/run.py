@@ -55,7 +55,7 @@ from qdsega.agent.learner import QDSEGA, Generation, LearnerState
 from qdsega.agent.policy import Rollout
 from qdsega.atomic import replaced_atomically
 from qdsega.description import Formation, load_formation
-from qdsega.errors import FormationError
+from qdsega.errors import ConfigError, RunFolderError
 from qdsega.training.checkpoint import (
     CHECKPOINT_FILE,
     Checkpoint,
@@ -184,7 +184,7 @@ def train(
             formation.
 
     Raises:
-        FormationError: ``out`` exists (and ``overwrite`` is not set, or it is not a run
+        RunFolderError: ``out`` exists (and ``overwrite`` is not set, or it is not a run
             folder), or another process is writing it; unreadable formation, or one the chosen
             world cannot model; a warm start from a missing or unfinished run, from one whose
             exterior states differ, or (without ``allow_unmatched``) from an unrelated body.
@@ -198,14 +198,14 @@ def train(
         warm = _warm_source(Path(warm_start), original, config, allow_unmatched)
     snapshot = FormationSnapshot.of(original)
     if out.exists() and not out.is_dir():
-        raise FormationError("not a folder; choose another --out", file=out)
+        raise RunFolderError("not a folder; choose another --out", file=out)
     if _contents(out) and not (out / "config.yaml").is_file():
-        raise FormationError("not empty and not a run folder (no config.yaml)", file=out)
+        raise RunFolderError("not empty and not a run folder (no config.yaml)", file=out)
     out.mkdir(parents=True, exist_ok=True)
     with run_lock(out):
         previous = _contents(out)
         if previous and not overwrite:
-            raise FormationError(
+            raise RunFolderError(
                 "run folder exists; continue it with --resume, start it again with "
                 "--overwrite, or choose another --out",
                 file=out,
@@ -233,15 +233,15 @@ def _warm_source(
     ``formation`` and the run's last learner state.
 
     Raises:
-        FormationError: see :func:`train`.
+        RunFolderError: see :func:`train`.
     """
     require_finished(run, "config.yaml", CHECKPOINT_FILE)
     source_config = read_run_config(run)
     checkpoint = load_checkpoint(run)
     if checkpoint is None or checkpoint.learner.previous is None:
-        raise FormationError(f"not a finished run folder (no {CHECKPOINT_FILE})", file=run)
+        raise RunFolderError(f"not a finished run folder (no {CHECKPOINT_FILE})", file=run)
     if source_config.task.exterior_bin_edges_deg != config.task.exterior_bin_edges_deg:
-        raise FormationError(
+        raise ConfigError(
             "its exterior states (task.exterior_bin_edges_deg) differ from this run's; its "
             "Q-table cannot carry over",
             file=run,
@@ -249,7 +249,7 @@ def _warm_source(
     source_formation = load_run_formation(run, source_config)
     mapping = JointMapping.between(source_formation, formation)
     if not mapping.matched and not allow_unmatched:
-        raise FormationError(
+        raise RunFolderError(
             f"{source_formation.name} shares no joint name with {formation.name}; nothing "
             "carries over (give --allow-unmatched to start from it anyway)",
             file=run,
@@ -262,14 +262,14 @@ def resume(run: Path | str, *, progress: Progress | None = None) -> dict[str, An
     before the first one; return the summary.
 
     Raises:
-        FormationError: missing, corrupt or finished run folder; another process is writing it.
+        RunFolderError: missing, corrupt or finished run folder; another process is writing it.
         TrainingInterrupted: Ctrl-C; ``run`` holds the last finished generation.
     """
     run = Path(run)
     if not run.is_dir():
-        raise FormationError("run folder not found", file=run)
+        raise RunFolderError("run folder not found", file=run)
     if not (run / "config.yaml").is_file():
-        raise FormationError(
+        raise RunFolderError(
             "nothing to resume (no config.yaml); start the run with "
             f"qdsega train FORMATION --out {run}",
             file=run,
@@ -277,7 +277,7 @@ def resume(run: Path | str, *, progress: Progress | None = None) -> dict[str, An
     config = read_run_config(run)
     with run_lock(run):
         if (run / SUMMARY_FILE).is_file():
-            raise FormationError(
+            raise RunFolderError(
                 f"run is finished ({SUMMARY_FILE} exists); nothing to resume", file=run
             )
         formation = load_run_formation(run, config)
@@ -329,7 +329,7 @@ def _run(
                 world.restore(checkpoint.world)
             except ValueError as exc:
                 message = f"checkpoint.npz does not fit config.yaml ({exc})"
-                raise FormationError(message, file=out) from None
+                raise RunFolderError(message, file=out) from None
         first_elapsed, resumed_at = checkpoint.elapsed_s, checkpoint.learner.completed
         simulated = int(checkpoint.metrics[-1, _SIM_STEPS]) if len(checkpoint.metrics) else 0
         if progress is not None:

@@ -6,7 +6,7 @@ import json
 from pathlib import Path
 from typing import Any
 
-from qdsega.errors import FormationError
+from qdsega.errors import RunFolderError
 
 SUMMARY_FILE = "summary.json"
 """Written last by ``qdsega train``: its presence means the run is finished."""
@@ -25,24 +25,24 @@ def require_finished(run: Path, *names: str) -> None:
     """Check that ``run`` is a folder holding a summary and every file in ``names``.
 
     Raises:
-        FormationError: no such folder, or a file missing.
+        RunFolderError: no such folder, or a file missing.
     """
     if not run.is_dir():
-        raise FormationError("run folder not found", file=run)
+        raise RunFolderError("run folder not found", file=run)
     for name in (SUMMARY_FILE, *names):
         if not (run / name).is_file():
-            raise FormationError(f"not a finished run folder (no {name})", file=run)
+            raise RunFolderError(f"not a finished run folder (no {name})", file=run)
 
 
 def read_summary(run: Path) -> dict[str, Any]:
     """The run's ``summary.json`` (call :func:`require_finished` first).
 
     Raises:
-        FormationError: the file does not parse or is not a summary.
+        RunFolderError: the file does not parse or is not a summary.
     """
     summary = _read_json(run, SUMMARY_FILE)
     if not isinstance(summary, dict) or not {"formation", "formation_file"} <= summary.keys():
-        raise FormationError(f"corrupt run folder ({SUMMARY_FILE} is not a summary)", file=run)
+        raise RunFolderError(f"corrupt run folder ({SUMMARY_FILE} is not a summary)", file=run)
     return summary
 
 
@@ -50,14 +50,14 @@ def read_evaluation(run: Path) -> dict[str, Any] | None:
     """The run's ``evaluation.json``, or None before ``qdsega evaluate``.
 
     Raises:
-        FormationError: the file does not parse or is not an evaluation.
+        RunFolderError: the file does not parse or is not an evaluation.
     """
     if not (run / EVALUATION_FILE).is_file():
         return None
     evaluation = _read_json(run, EVALUATION_FILE)
     if not isinstance(evaluation, dict) or not {"postures", "reference"} <= evaluation.keys():
         message = f"corrupt run folder ({EVALUATION_FILE} is not an evaluation)"
-        raise FormationError(message, file=run)
+        raise RunFolderError(message, file=run)
     return evaluation
 
 
@@ -65,4 +65,4 @@ def _read_json(run: Path, name: str) -> Any:
     try:
         return json.loads((run / name).read_text(encoding="utf-8"))
     except (OSError, ValueError) as exc:
-        raise FormationError(f"corrupt run folder ({name}: {exc})", file=run) from None
+        raise RunFolderError(f"corrupt run folder ({name}: {exc})", file=run) from None

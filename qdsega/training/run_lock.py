@@ -16,7 +16,7 @@ from collections.abc import Iterator
 from contextlib import contextmanager
 from pathlib import Path
 
-from qdsega.errors import FormationError
+from qdsega.errors import RunFolderError
 
 LOCK_FILE = "train.lock"
 """Locked by the process writing the run folder."""
@@ -27,7 +27,7 @@ def run_lock(run: Path) -> Iterator[None]:
     """Hold the lock of the existing folder ``run`` for the block.
 
     Raises:
-        FormationError: another process holds it.
+        RunFolderError: another process holds it.
     """
     descriptor = os.open(run / LOCK_FILE, os.O_RDWR | os.O_CREAT, 0o644)
     try:
@@ -35,7 +35,7 @@ def run_lock(run: Path) -> Iterator[None]:
             fcntl.flock(descriptor, fcntl.LOCK_EX | fcntl.LOCK_NB)
         except BlockingIOError:
             holder = os.pread(descriptor, 32, 0).decode("ascii", "replace").strip()
-            raise FormationError(
+            raise RunFolderError(
                 f"another qdsega train (pid {holder or 'unknown'}) is writing this run folder; "
                 "wait for it to end, or stop it and continue with --resume",
                 file=run,

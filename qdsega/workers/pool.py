@@ -48,7 +48,7 @@ def worker_pool(
     machine) or the address of a Ray cluster to join.
 
     Raises:
-        FormationError: ``ray`` given but Ray is not installed.
+        WorkerError: ``ray`` given but Ray is not installed.
     """
     if workers < 1:
         raise ValueError(f"workers must be at least 1, got {workers}")

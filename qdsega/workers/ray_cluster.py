@@ -19,7 +19,7 @@ import os
 from collections.abc import Callable, Iterable, Iterator
 from typing import Any
 
-from qdsega.errors import FormationError
+from qdsega.errors import WorkerError
 
 LOCAL = "local"
 """The ``--ray`` value that starts a Ray instance on this machine."""
@@ -30,12 +30,12 @@ def connect(address: str, *, cpus: int = 0) -> Any:
     cluster has at least ``cpus`` CPUs.
 
     Raises:
-        FormationError: Ray is not installed, or the cluster has fewer CPUs.
+        WorkerError: Ray is not installed, or the cluster has fewer CPUs.
     """
     try:
         import ray
     except ImportError:
-        raise FormationError("--ray needs Ray: pip install 'qdsega[ray]'") from None
+        raise WorkerError("--ray needs Ray: pip install 'qdsega[ray]'") from None
     if not ray.is_initialized():
         options: dict[str, Any] = {"include_dashboard": False, "logging_level": logging.ERROR}
         if address == LOCAL:
@@ -44,7 +44,7 @@ def connect(address: str, *, cpus: int = 0) -> Any:
         ray.init(address=address, log_to_driver=False, **options)
     available = ray.cluster_resources().get("CPU", 0)
     if cpus > available:  # actors of one CPU each would wait forever
-        raise FormationError(
+        raise WorkerError(
             f"{cpus} Ray workers need {cpus} CPUs; the Ray cluster has {available:g}"
         )
     return ray

@@ -6,7 +6,7 @@ import pytest
 
 from qdsega.cli import build_parser
 from qdsega.commands.train import run_config
-from qdsega.errors import FormationError
+from qdsega.errors import ConfigError
 
 EVERY_KEY = """\
 preset: paper-snake
@@ -75,11 +75,11 @@ def test_a_flag_left_out_keeps_the_files_value(tmp_path):
 @pytest.mark.parametrize(
     ("text", "message"),
     [
-        ("preset: 3\n", "settings.yaml: preset: expected text"),
+        ("preset: 3\n", "settings.yaml:1: preset: expected text"),
         ("preset: fastest\n", "unknown preset 'fastest'"),
         ("- sim: memo\n", "expected a mapping"),
     ],
 )
 def test_a_bad_file_is_one_clear_error(tmp_path, text, message):
-    with pytest.raises(FormationError, match=message):
+    with pytest.raises(ConfigError, match=message):
         _config(tmp_path, text)

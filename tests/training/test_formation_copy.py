@@ -12,7 +12,7 @@ import trimesh
 
 from qdsega.assembly import assemble
 from qdsega.description import Formation, load_formation
-from qdsega.errors import FormationError, QdsegaWarning
+from qdsega.errors import QdsegaWarning, RunFolderError
 from qdsega.training.config import TrainingConfig
 from qdsega.training.formation_copy import (
     FormationSnapshot,
@@ -139,6 +139,6 @@ def test_a_damaged_copy_is_refused(tmp_path, damage, message):
     run = tmp_path / "run"
     _copy(SNAKE, run)
     damage(run)
-    with pytest.raises(FormationError, match=message) as error:
+    with pytest.raises(RunFolderError, match=message) as error:
         load_run_formation(run, TrainingConfig())
     assert "\n" not in str(error.value)

@@ -7,7 +7,7 @@ import sys
 
 import pytest
 
-from qdsega.errors import FormationError
+from qdsega.errors import RunFolderError
 from qdsega.training.run_lock import LOCK_FILE, run_lock
 
 
@@ -15,7 +15,7 @@ def test_a_second_holder_is_refused_until_the_first_lets_go(tmp_path):
     with run_lock(tmp_path):
         assert (tmp_path / LOCK_FILE).read_text().strip().isdigit()
         with (
-            pytest.raises(FormationError, match="another qdsega train") as refused,
+            pytest.raises(RunFolderError, match="another qdsega train") as refused,
             run_lock(tmp_path),
         ):
             pass

@@ -5,7 +5,7 @@ from __future__ import annotations
 import pytest
 import yaml
 
-from qdsega.errors import FormationError
+from qdsega.errors import ConfigError
 from qdsega.training.config import resolve_config
 from qdsega.training.run import budget_overrides
 
@@ -49,7 +49,7 @@ def test_yaml_then_flags_override(tmp_path):
 def test_bad_overrides(tmp_path, text, message):
     file = tmp_path / "bad.yaml"
     file.write_text(text)
-    with pytest.raises(FormationError, match=message):
+    with pytest.raises(ConfigError, match=message):
         resolve_config(file=file)
 
 
