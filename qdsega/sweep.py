@@ -11,10 +11,10 @@ A grid file (``GRID.yaml``)::
       short: {agent: {genetic: {generations: 5}}}
     reference_trials: 600             # qdsega evaluate's CMA-ES budget (trials; 0: none)
 
-Every combination formation x preset x config x seed is one run, trained by ``qdsega train``
-into ``OUT/FORMATION-PRESET-CONFIG-seedS`` and evaluated by ``qdsega evaluate``, each in its own
-process: a run that fails is reported with the last line its command printed on stderr, and
-the others go on. A finished, evaluated run is kept, an unfinished one resumed, so running a
+Every combination formation x preset x config x seed is one run, trained (or resumed, or
+kept: :func:`qdsega.training.run.train_or_resume`) into ``OUT/FORMATION-PRESET-CONFIG-seedS``
+and evaluated, each in its own process: a run that fails is reported with its error, and the
+others go on. A finished, evaluated run is kept, an unfinished one resumed, so running a
 sweep again finishes what a crash left. The table (``OUT/sweep.csv``, ``OUT/sweep.md``) holds
 only what the runs' files say, so the same grid gives the same table wherever it ran.
 
@@ -27,10 +27,9 @@ from __future__ import annotations
 import csv
 import io
 import itertools
-import subprocess
-import sys
+import multiprocessing
 from collections.abc import Callable, Sequence
-from concurrent.futures import ThreadPoolExecutor
+from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -38,9 +37,11 @@ from typing import Any
 import yaml
 
 from qdsega.description import load_formation, resolve_formation
-from qdsega.errors import ConfigError
+from qdsega.errors import ConfigError, QdsegaError
 from qdsega.training.config import SIMULATORS, default_preset, resolve_config
-from qdsega.training.run_folder import EVALUATION_FILE, SUMMARY_FILE, read_evaluation, read_summary
+from qdsega.training.run import train_or_resume
+from qdsega.training.run_folder import RunFolder
+from qdsega.yaml_reader import YamlDocument, load_yaml
 
 GRID_KEYS = ("formations", "seeds", "sim", "presets", "configs", "reference_trials")
 """The keys a grid file may have."""
@@ -86,33 +87,27 @@ def read_grid(file: Path, out: Path) -> list[SweepRun]:
         ConfigError: unreadable grid, unknown key, a formation that does not load, a bad
             preset or setting (all checked before anything runs).
     """
-    try:
-        grid = yaml.safe_load(Path(file).read_text(encoding="utf-8"))
-    except (OSError, yaml.YAMLError) as exc:
-        raise ConfigError(f"cannot read the grid: {exc}", file=file) from None
+    document = load_yaml(Path(file), error_type=ConfigError)
+    grid = document.data
     if not isinstance(grid, dict) or "formations" not in grid:
-        raise ConfigError("a grid is a mapping with at least formations: [...]", file=file)
+        raise document.error((), "a grid is a mapping with at least formations: [...]")
     unknown = sorted(set(grid) - set(GRID_KEYS))
     if unknown:
         message = f"unknown key {unknown[0]!r} (known: {', '.join(GRID_KEYS)})"
-        raise ConfigError(message, file=file)
+        raise document.error((unknown[0],), message)
     sim = grid.get("sim", "memo")
     if sim not in SIMULATORS:
-        raise ConfigError(
-            f"sim must be one of {', '.join(SIMULATORS)}", file=file, key_path="sim"
-        )
-    seeds = _list_of(grid.get("seeds", [0]), int, file, "seeds")
-    presets = _list_of(grid.get("presets", [None]), str, file, "presets", optional=True)
+        raise document.error(("sim",), f"sim must be one of {', '.join(SIMULATORS)}")
+    seeds = _list_of(grid.get("seeds", [0]), int, document, "seeds")
+    presets = _list_of(grid.get("presets", [None]), str, document, "presets", optional=True)
     configs = grid.get("configs", {"default": {}})
     if not isinstance(configs, dict) or not configs:
-        raise ConfigError(
-            "expected a mapping of names to settings", file=file, key_path="configs"
-        )
+        raise document.error(("configs",), "expected a mapping of names to settings")
     trials = grid.get("reference_trials")
     if trials is not None and (isinstance(trials, bool) or not isinstance(trials, int)):
-        raise ConfigError("expected an integer", file=file, key_path="reference_trials")
+        raise document.error(("reference_trials",), "expected an integer")
     formations = []
-    for given in _list_of(grid["formations"], str, file, "formations"):
+    for given in _list_of(grid["formations"], str, document, "formations"):
         path = Path(given)
         if not path.is_absolute() and (file.parent / path).is_file():
             path = file.parent / path
@@ -122,20 +117,20 @@ def read_grid(file: Path, out: Path) -> list[SweepRun]:
     for name, settings in configs.items():
         if not str(name).replace("_", "").replace("-", "").isalnum():
             message = f"config name {name!r}: letters, digits, - and _ only (it names folders)"
-            raise ConfigError(message, file=file)
+            raise document.error(("configs", name), message)
         if not isinstance(settings or {}, dict):
-            raise ConfigError("expected a mapping", file=file, key_path=f"configs.{name}")
+            raise document.error(("configs", name), "expected a mapping")
         settings_of[str(name)] = settings or {}
         axes = sorted({"preset", "sim", "seed"} & set(settings_of[str(name)]))
         if axes:
             message = f"{axes[0]} is the grid's to set (presets, sim, seeds), not a config's"
-            raise ConfigError(message, file=file, key_path=f"configs.{name}")
+            raise document.error(("configs", name), message)
         for preset in presets:
             overrides = {**settings_of[str(name)], "sim": sim}
             try:
                 resolve_config(preset=preset or "paper-legged", overrides=overrides)
             except ConfigError as exc:
-                raise ConfigError(str(exc), file=file, key_path=f"configs.{name}") from None
+                raise document.error(("configs", name), str(exc)) from None
     runs = []
     for (path, formation), preset, name, seed in itertools.product(
         formations, presets, settings_of, seeds
@@ -155,42 +150,36 @@ def read_grid(file: Path, out: Path) -> list[SweepRun]:
     return runs
 
 
-def _list_of(value: Any, kind: type, file: Path, key: str, *, optional: bool = False) -> list[Any]:
+def _list_of(
+    value: Any, kind: type, document: YamlDocument, key: str, *, optional: bool = False
+) -> list[Any]:
     items = value if isinstance(value, list) else [value]
     if not items or not all(
         (isinstance(v, kind) and not isinstance(v, bool)) or (optional and v is None) for v in items
     ):
-        raise ConfigError(f"expected a list of {kind.__name__}", file=file, key_path=key)
+        raise document.error((key,), f"expected a list of {kind.__name__}")
     return items
 
 
 def run_one(run: SweepRun, folder: Path) -> str:
-    """Train (or resume, or keep) and evaluate one run in ``folder``; ``"ok"`` or the failed
-    command's last line on stderr."""
-    steps: list[list[str]] = []
-    if not (folder / SUMMARY_FILE).is_file():
-        if (folder / "config.yaml").is_file():
-            steps.append(["train", "--resume", str(folder), "--quiet"])
-        else:
-            steps.append([
-                "train", str(run.formation), "--sim", run.sim, "--preset", run.preset,
-                "--config", str(run.config_file), "--seed", str(run.seed), "--out", str(folder),
-                "--quiet",
-            ])  # fmt: skip
-    if not (folder / EVALUATION_FILE).is_file():
-        budget = (
-            []
-            if run.reference_trials is None
-            else ["--reference-trials", str(run.reference_trials)]
-        )
-        steps.append(["evaluate", str(folder), *budget])
-    for args in steps:
-        done = subprocess.run(
-            [sys.executable, "-m", "qdsega.cli", *args], capture_output=True, text=True
-        )
-        if done.returncode != 0:
-            lines = [line for line in done.stderr.splitlines() if line.strip()]
-            return lines[-1] if lines else f"qdsega {args[0]} exited with {done.returncode}"
+    """Train (or resume, or keep) and evaluate one run in ``folder``; ``"ok"``, or the step
+    that failed and its error."""
+    from qdsega.analysis.evaluation import evaluate_run  # starts PyBullet: in the run's process
+
+    step = "train"
+    try:
+        overrides = {"sim": run.sim, "seed": run.seed}
+        config = resolve_config(preset=run.preset, file=run.config_file, overrides=overrides)
+        train_or_resume(run.formation, config, folder)
+        if RunFolder(folder).read_evaluation() is None:
+            step = "evaluate"
+            budget = (
+                {} if run.reference_trials is None else {"reference_trials": run.reference_trials}
+            )
+            evaluate_run(folder, **budget)
+    except Exception as exc:  # a failed run is a row of the table; the others go on
+        detail = str(exc) if isinstance(exc, QdsegaError) else f"{type(exc).__name__}: {exc}"
+        return f"{step}: {detail}"
     return "ok"
 
 
@@ -220,7 +209,8 @@ def run_sweep(
             statuses.append(cluster.get(task))
             report(run, statuses[-1])
     else:
-        with ThreadPoolExecutor(jobs) as pool:  # each run is its own process: threads suffice
+        spawn = multiprocessing.get_context("spawn")  # each run in a fresh process of its own
+        with ProcessPoolExecutor(jobs, mp_context=spawn) as pool:
             statuses = []
             for run, status in zip(runs, pool.map(run_one, runs, folders), strict=True):
                 statuses.append(status)
@@ -240,7 +230,7 @@ def _row(run: SweepRun, folder: Path, status: str) -> dict[str, Any]:
     if status != "ok":
         row.update(status="failed", error=status)
         return row
-    summary, evaluation = read_summary(folder), read_evaluation(folder)
+    summary, evaluation = RunFolder(folder).read_summary(), RunFolder(folder).read_evaluation()
     assert evaluation is not None, "run_one evaluates every run it reports ok"
     row.update(
         status="ok",

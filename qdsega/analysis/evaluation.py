@@ -52,12 +52,7 @@ from qdsega.locomotion.env_world import EnvWorld
 from qdsega.training.config import TrainingConfig, read_run_config
 from qdsega.training.formation_copy import load_run_formation
 from qdsega.training.reconfiguration import JointMapping
-from qdsega.training.run_folder import (
-    EVALUATION_FILE,
-    POLICY_FILE,
-    read_summary,
-    require_finished,
-)
+from qdsega.training.run_folder import RunFolder
 from qdsega.training.sims import check_sim, exact_env
 
 
@@ -110,7 +105,7 @@ def evaluate_run(
     }
     if len(formation.joints) >= 2 and len(learned["postures"]) >= 4:
         result["wave"] = wave_of(formation, np.array(learned["postures"]))
-    with replaced_atomically(run / EVALUATION_FILE) as partial:
+    with replaced_atomically(run / RunFolder.EVALUATION) as partial:
         partial.write_text(json.dumps(result, indent=2) + "\n", encoding="utf-8")
     return result
 
@@ -263,11 +258,12 @@ def load_run(run: Path) -> tuple[dict[str, Any], TrainingConfig, GreedyPolicy]:
     Raises:
         RunFolderError: missing folder or files, or files that do not parse.
     """
-    require_finished(run, "config.yaml", POLICY_FILE)
+    folder = RunFolder(run)
+    folder.require_finished(folder.CONFIG, folder.POLICY)
     config = read_run_config(run)
-    summary = read_summary(run)
+    summary = folder.read_summary()
     try:
-        policy = GreedyPolicy.load(run / POLICY_FILE)
+        policy = GreedyPolicy.load(folder / folder.POLICY)
     except ValueError as exc:
         raise RunFolderError(f"corrupt run folder ({exc})", file=run) from None
     return summary, config, policy

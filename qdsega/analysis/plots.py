@@ -3,7 +3,6 @@ Fig. 12 (gait of a legged body), Fig. 13 (poses of a snake) and the joint angles
 
 from __future__ import annotations
 
-import csv
 from pathlib import Path
 from typing import Any
 
@@ -15,7 +14,7 @@ import numpy as np
 from matplotlib.ticker import MaxNLocator
 
 from qdsega.errors import RunFolderError
-from qdsega.training.run_folder import read_evaluation, read_summary, require_finished
+from qdsega.training.run_folder import RunFolder
 
 LEARNING_CURVE = "learning_curve.png"
 QTABLE_SIZE = "qtable_size.png"
@@ -48,15 +47,16 @@ def plot_run(run: Path | str, *, fresh: Path | None = None) -> tuple[list[Path],
             do not parse.
     """
     run = Path(run)
-    require_finished(run, "trajectories.npz", "metrics.csv")
-    summary, evaluation = read_summary(run), read_evaluation(run)
+    folder = RunFolder(run)
+    folder.require_finished(folder.TRAJECTORIES, folder.METRICS)
+    summary, evaluation = folder.read_summary(), folder.read_evaluation()
     try:
-        with np.load(run / "trajectories.npz") as data:
+        with np.load(folder / folder.TRAJECTORIES) as data:
             poses, legs, names = data["exact_poses"], data["gait_legs"], data["leg_names"]
             light, angles, joints = data["light"], data["gait_angles_deg"], data["joint_names"]
     except (OSError, ValueError, KeyError) as exc:
         raise RunFolderError(f"corrupt run folder ({exc})", file=run) from None
-    metrics = read_metrics(run)
+    metrics = folder.read_metrics()
     notes = []
     baseline = None
     if summary.get("warm_start") is not None:
@@ -64,8 +64,8 @@ def plot_run(run: Path | str, *, fresh: Path | None = None) -> tuple[list[Path],
         if fresh is None:
             notes.append(f"{LEARNING_CURVE}: no fresh run of {summary['formation']} beside it")
         else:
-            require_finished(fresh, "metrics.csv")
-            baseline = (fresh, read_metrics(fresh))
+            RunFolder(fresh).require_finished(RunFolder.METRICS)
+            baseline = (fresh, RunFolder(fresh).read_metrics())
     paths = [
         _learning_curve(run / LEARNING_CURVE, metrics, summary, evaluation, baseline),
         _qtable_size(run / QTABLE_SIZE, metrics),
@@ -81,31 +81,15 @@ def plot_run(run: Path | str, *, fresh: Path | None = None) -> tuple[list[Path],
     return paths, notes
 
 
-def read_metrics(run: Path) -> dict[str, np.ndarray]:
-    """A run's ``metrics.csv``, one array per column (one entry per generation).
-
-    Raises:
-        RunFolderError: the file is missing, empty or does not parse.
-    """
-    try:
-        with (run / "metrics.csv").open(encoding="utf-8") as stream:
-            rows = list(csv.DictReader(stream))
-        if not rows:
-            raise ValueError("metrics.csv has no generations")
-        return {key: np.array([row[key] for row in rows], dtype=float) for key in rows[0]}
-    except (OSError, ValueError, KeyError) as exc:
-        raise RunFolderError(f"corrupt run folder ({exc})", file=run) from None
-
-
 def fresh_sibling(run: Path, summary: dict[str, Any]) -> Path | None:
     """A finished folder beside ``run`` that trained the same formation (content hash) with
     the same world from scratch; the same seed first, then by name; None if there is none."""
     found = []
     for folder in sorted(run.resolve().parent.iterdir()):
-        if folder == run.resolve() or not (folder / "summary.json").is_file():
+        if folder == run.resolve() or not RunFolder(folder).finished:
             continue
         try:
-            other = read_summary(folder)
+            other = RunFolder(folder).read_summary()
         except RunFolderError:
             continue
         if (

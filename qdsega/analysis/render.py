@@ -14,7 +14,7 @@ from qdsega.errors import ConfigError, FormationError
 from qdsega.locomotion.env import LocomotionEnv
 from qdsega.simulation.camera import CameraConfig
 from qdsega.training.formation_copy import load_run_formation
-from qdsega.training.run_folder import read_evaluation
+from qdsega.training.run_folder import RunFolder
 from qdsega.training.sims import exact_env
 
 
@@ -24,7 +24,7 @@ def render_run(run: Path, out: Path, camera: CameraConfig) -> Film:
     _check_suffix(out)
     _, config, policy = load_run(run)
     formation = load_run_formation(run, config)
-    evaluation = read_evaluation(run)
+    evaluation = RunFolder(run).read_evaluation()
     env = exact_env(formation, config, camera=camera)
     try:
         if evaluation is not None:

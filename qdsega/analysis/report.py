@@ -17,11 +17,10 @@ from typing import Any
 from qdsega.analysis.plots import FIGURES
 from qdsega.atomic import replaced_atomically
 from qdsega.errors import RunFolderError
-from qdsega.training.formation_copy import FORMATION_DIR, read_formation_record
+from qdsega.training.formation_copy import read_formation_record
 from qdsega.training.reconfiguration import describe
-from qdsega.training.run_folder import read_evaluation, read_summary, require_finished
+from qdsega.training.run_folder import RunFolder
 
-REPORT_FILE = "report.html"
 _MEDIA = {".png": "image/png", ".gif": "image/gif", ".mp4": "video/mp4"}
 _STYLE = """
 body { font-family: system-ui, sans-serif; max-width: 960px; margin: 2em auto; padding: 0 1em;
@@ -42,12 +41,13 @@ def write_report(run: Path | str, out: Path | None = None) -> Path:
         RunFolderError: not a finished run folder, or its files do not parse.
     """
     run = Path(run)
-    require_finished(run, "config.yaml")
-    summary, evaluation = read_summary(run), read_evaluation(run)
+    folder = RunFolder(run)
+    folder.require_finished(folder.CONFIG)
+    summary, evaluation = folder.read_summary(), folder.read_evaluation()
     record = read_formation_record(run)
     try:
-        config = (run / "config.yaml").read_text(encoding="utf-8")
-        formation = (run / FORMATION_DIR / record.formation).read_text(encoding="utf-8")
+        config = (folder / folder.CONFIG).read_text(encoding="utf-8")
+        formation = (folder / folder.FORMATION_DIR / record.formation).read_text(encoding="utf-8")
     except OSError as exc:
         raise RunFolderError(f"corrupt run folder ({exc})", file=run) from None
     title = f"qdsega run: {summary['formation']} ({summary.get('sim')}, seed {summary.get('seed')})"
@@ -75,7 +75,7 @@ def write_report(run: Path | str, out: Path | None = None) -> Path:
         + "\n".join(parts)
         + "\n</body></html>\n"
     )
-    out = out or run / REPORT_FILE
+    out = out or folder / folder.REPORT
     with replaced_atomically(out) as partial:
         partial.write_text(page, encoding="utf-8")
     return out

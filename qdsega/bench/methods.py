@@ -31,8 +31,8 @@ from qdsega.bench.curve import Curve
 from qdsega.bench.tasks import BenchTask
 from qdsega.description import resolve_formation
 from qdsega.locomotion.env import Replay
-from qdsega.training.run import METRIC_COLUMNS, resume, train
-from qdsega.training.run_folder import SUMMARY_FILE
+from qdsega.training.run import train_or_resume
+from qdsega.training.run_folder import RunFolder
 
 Method = Callable[[BenchTask, int, Path], Curve]
 
@@ -73,14 +73,9 @@ def _qdsega(
 ) -> Curve:
     """A training run into ``folder/run`` (resumed where a crash left it), read back."""
     run = folder / "run"
-    if not (run / SUMMARY_FILE).is_file():
-        if (run / "config.yaml").is_file():
-            resume(run)
-        else:
-            config = task.config(seed=seed, learning=learning, genetic=genetic)
-            train(resolve_formation(task.formation), config, run, overwrite=True)
-    metrics = np.loadtxt(run / "metrics.csv", delimiter=",", skiprows=1, ndmin=2)
-    column = {name: metrics[:, k] for k, name in enumerate(METRIC_COLUMNS)}
+    config = task.config(seed=seed, learning=learning, genetic=genetic)
+    train_or_resume(resolve_formation(task.formation), config, run)
+    column = RunFolder(run).read_metrics()
     steps = np.cumsum(column["steps"]) if task.sim == "msm" else column["sim_steps"]
     return Curve(steps.astype(np.int64), column["greedy_exact_m"], np.cumsum(column["wall_s"]))
 

@@ -33,7 +33,7 @@ def run(args: argparse.Namespace) -> int:
     # Imported here: it starts PyBullet, which the other commands need not load.
     from qdsega.analysis.evaluation import evaluate_on, evaluate_run
     from qdsega.training.reconfiguration import describe
-    from qdsega.training.run_folder import EVALUATION_FILE
+    from qdsega.training.run_folder import RunFolder
 
     if args.formation is not None:
         if args.reference_trials is not None:
@@ -56,6 +56,6 @@ def run(args: argparse.Namespace) -> int:
     print(
         f"{result['formation']}: learnt policy {result['distance_m']:.4f} m{memo}; "
         f"best reference: {reference['kind']} {reference['distance_m']:.4f} m; ratio {ratio} "
-        f"-> {args.run / EVALUATION_FILE}"
+        f"-> {RunFolder(args.run) / RunFolder.EVALUATION}"
     )
     return 0

@@ -23,8 +23,7 @@ from qdsega.agent.policy import GreedyPolicy
 from qdsega.agent.space import ExplorationSpace
 from qdsega.atomic import replaced_atomically
 from qdsega.errors import RunFolderError
-
-CHECKPOINT_FILE = "checkpoint.npz"
+from qdsega.training.run_folder import RunFolder
 
 
 @dataclass(frozen=True)
@@ -34,7 +33,7 @@ class Checkpoint:
     Attributes:
         learner: the learner's state.
         metrics: one row per finished generation, columns of
-            :data:`qdsega.training.run.METRIC_COLUMNS`, shape (G, columns).
+            :data:`qdsega.training.run_folder.METRIC_COLUMNS`, shape (G, columns).
         poses: each finished generation's greedy trial in the learner's world (x m, y m,
             theta rad), shape (G, steps + 1, 3).
         exact_poses: the same policies replayed with exact physics, shape (G, steps + 1, 3).
@@ -100,7 +99,7 @@ def save_checkpoint(run: Path, checkpoint: Checkpoint) -> None:
         "elite_m": state.elite[1],
         "result": checkpoint.result,
     }
-    with replaced_atomically(run / CHECKPOINT_FILE) as partial:
+    with replaced_atomically(run / RunFolder.CHECKPOINT) as partial:
         np.savez(partial, meta=np.array(json.dumps(meta)), **arrays)
 
 
@@ -139,7 +138,7 @@ def load_checkpoint(run: Path) -> Checkpoint | None:
     Raises:
         RunFolderError: a checkpoint that does not parse.
     """
-    file = run / CHECKPOINT_FILE
+    file = run / RunFolder.CHECKPOINT
     if not file.is_file():
         return None
     try:
@@ -179,5 +178,5 @@ def load_checkpoint(run: Path) -> Checkpoint | None:
                 result_policy=result_policy,
             )
     except (OSError, ValueError, KeyError, TypeError, zipfile.BadZipFile) as exc:
-        message = f"corrupt {CHECKPOINT_FILE} ({exc.__class__.__name__}: {exc})"
+        message = f"corrupt {RunFolder.CHECKPOINT} ({exc.__class__.__name__}: {exc})"
         raise RunFolderError(message, file=run) from None

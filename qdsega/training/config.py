@@ -35,6 +35,7 @@ from qdsega.locomotion.lower_agent import LowerAgentConfig
 from qdsega.msm import MSMParameters
 from qdsega.simulation import PhysicsSettings
 from qdsega.task import TaskConfig
+from qdsega.training.run_folder import RunFolder
 from qdsega.yaml_reader import KeyPath, YamlDocument, format_key_path, load_yaml
 
 SIMULATORS = ("msm", "memo", "pybullet")
@@ -179,7 +180,7 @@ def read_run_config(run: Path) -> TrainingConfig:
     Raises:
         RunFolderError: no config.yaml, or one that is not a configuration.
     """
-    file = run / "config.yaml"
+    file = run / RunFolder.CONFIG
     if not file.is_file():
         raise RunFolderError("not a run folder (no config.yaml)", file=run)
     try:

@@ -31,11 +31,7 @@ from qdsega.description import Formation, load_formation
 from qdsega.description.unit_type import mesh_files
 from qdsega.errors import FormationError, QdsegaWarning, RunFolderError
 from qdsega.training.config import TrainingConfig
-
-FORMATION_DIR = "formation"
-"""The copy of the formation and its unit files, in a run folder."""
-FORMATION_RECORD = "formation.json"
-"""Where the copy came from and its hashes (:class:`FormationRecord`), in a run folder."""
+from qdsega.training.run_folder import RunFolder
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -115,10 +111,10 @@ class FormationSnapshot:
     def write(self, run: Path) -> None:
         """Write ``formation/`` and, last, ``formation.json`` into ``run``."""
         for path, data in self.contents.items():
-            target = run / FORMATION_DIR / path
+            target = run / RunFolder.FORMATION_DIR / path
             target.parent.mkdir(parents=True, exist_ok=True)
             target.write_bytes(data)
-        with replaced_atomically(run / FORMATION_RECORD) as partial:
+        with replaced_atomically(run / RunFolder.FORMATION_RECORD) as partial:
             partial.write_text(json.dumps(asdict(self.record), indent=2) + "\n", encoding="utf-8")
 
 
@@ -131,12 +127,13 @@ def load_run_formation(run: Path, config: TrainingConfig) -> Formation:
         RunFolderError: no copy, or one that does not match its hashes.
     """
     record = read_formation_record(run)
-    copy = run / FORMATION_DIR
+    copy = run / RunFolder.FORMATION_DIR
     for path, sha in record.files.items():
         file = copy / path
         if not file.is_file() or _sha256(file.read_bytes()) != sha:
             state = "is missing" if not file.is_file() else "differs from its sha256"
-            message = f"corrupt run folder ({FORMATION_DIR}/{path} {state} in {FORMATION_RECORD})"
+            copied = f"{RunFolder.FORMATION_DIR}/{path}"
+            message = f"corrupt run folder ({copied} {state} in {RunFolder.FORMATION_RECORD})"
             raise RunFolderError(message, file=run)
     if Path(record.source_file).is_file():
         now = content_hash({path: _source_sha256(record.source(path)) for path in record.files})
@@ -157,11 +154,11 @@ def read_formation_record(run: Path) -> FormationRecord:
     Raises:
         RunFolderError: the file is missing or is not a record.
     """
-    file = run / FORMATION_RECORD
+    file = run / RunFolder.FORMATION_RECORD
     if not file.is_file():
         raise RunFolderError(
-            f"no copy of the formation ({FORMATION_RECORD}): the run stopped before it was "
-            "made, or an older qdsega wrote it; start the run again with "
+            f"no copy of the formation ({RunFolder.FORMATION_RECORD}): the run stopped before "
+            "it was made, or an older qdsega wrote it; start the run again with "
             f"qdsega train FORMATION --out {run} --overwrite",
             file=run,
         )
@@ -169,10 +166,11 @@ def read_formation_record(run: Path) -> FormationRecord:
         data: Any = json.loads(file.read_text(encoding="utf-8"))
         record = FormationRecord(**data)
     except (OSError, ValueError, TypeError) as exc:
-        message = f"corrupt {FORMATION_RECORD} ({exc.__class__.__name__}: {exc})"
+        message = f"corrupt {RunFolder.FORMATION_RECORD} ({exc.__class__.__name__}: {exc})"
         raise RunFolderError(message, file=run) from None
     if not isinstance(record.files, dict) or record.formation not in record.files:
-        raise RunFolderError(f"corrupt {FORMATION_RECORD} (no formation file listed)", file=run)
+        message = f"corrupt {RunFolder.FORMATION_RECORD} (no formation file listed)"
+        raise RunFolderError(message, file=run)
     return record
 
 

@@ -1,46 +1,14 @@
-"""A training run: learn a formation's locomotion and write the run folder.
+"""A training run: learn a formation's locomotion and write the run folder
+(``docs/run-folder.md`` specifies every file).
 
-The run folder holds:
-
-* ``config.yaml``: the fully resolved :class:`~qdsega.training.config.TrainingConfig`;
-* ``formation/`` and ``formation.json``: the run's own copy of the formation and its unit
-  files, and their hashes (:mod:`qdsega.training.formation_copy`); written with
-  ``config.yaml`` before anything slow, so ``--resume`` can start a run stopped at any moment;
-* ``train.lock``: locked while a ``qdsega train`` writes the folder
-  (:mod:`qdsega.training.run_lock`);
-* ``warm_start.json`` and ``warm_start.npz`` (a warm-started run, ``--warm-start RUN``): where
-  the run started from (the source run, its formation, seed and distance, how joints matched;
-  in memo mode, once verified, ``handed_on_m``: its best path on this body) and what it starts
-  from (the joint mapping, the source's last population, Q-table and best path,
-  :mod:`qdsega.training.reconfiguration`); written with ``config.yaml``, so the run needs the
-  source run no more;
-* ``checkpoint.npz``: where the run stands after its last finished generation
-  (:mod:`qdsega.training.checkpoint`); ``qdsega train --resume RUN`` continues from it;
-* ``metrics.csv``: one row per finished generation (see :data:`METRIC_COLUMNS`);
-* ``summary.json`` (written last: its presence means the run is finished): the outcome
-  (``distance_m``: the run's result, the greedy policy that went farthest with exact
-  physics over all generations (``result_generation``, from 1; ties: the earliest), and its
-  distance; ``greedy_distance``: what the learner's world predicted for it; exact optimum,
-  budget, wall time, seed; ``formation_file``, the original formation, and
-  ``formation_sha256``, its content hash);
-  ``optimum`` is the straight-walk optimum of :func:`qdsega.msm.msm_optimum`, exact
-  (``optimum_exact``) for a light straight ahead, an upper reference otherwise; null in
-  PyBullet worlds (``qdsega evaluate`` measures a reference gait there);
-* ``policy.npz``: the result's greedy policy: ``q`` (states, A), ``actions`` (A, J),
-  ``postures`` (interior states, J), ``next_interior`` (A,);
-* ``transitions.npz`` (memo mode): every measured transition, reused when the run resumes;
-* ``trajectories.npz``: what the figures need: ``poses`` (G, steps + 1, 3), the greedy trial
-  of every generation in the learner's world (x m, y m, theta rad), and ``exact_poses``, the
-  same policies with exact physics; ``gait_postures`` (k + 1, J) and ``gait_legs``
-  (k + 1, n_legs), the result's exact trial as postures and as leg states 1..4;
-  ``gait_angles_deg`` (k + 1, J) and ``joint_names`` (J,), the same trial as joint angles;
-  ``optimum_postures`` (steps + 1, J), the optimum's witness; ``light`` (2,) (m).
+The loop is one-way, ask and tell: the learner learns a generation, the run asks the
+simulator to replay what it proposes with exact physics (the generation's greedy policy,
+exploring trials, the local search), and tells the learner how those trials walked. The
+simulator never calls the learner.
 """
 
 from __future__ import annotations
 
-import csv
-import json
 import math
 import shutil
 import time
@@ -56,12 +24,7 @@ from qdsega.agent.policy import Rollout
 from qdsega.atomic import replaced_atomically
 from qdsega.description import Formation, load_formation
 from qdsega.errors import ConfigError, RunFolderError
-from qdsega.training.checkpoint import (
-    CHECKPOINT_FILE,
-    Checkpoint,
-    load_checkpoint,
-    save_checkpoint,
-)
+from qdsega.training.checkpoint import Checkpoint, load_checkpoint, save_checkpoint
 from qdsega.training.config import TrainingConfig, read_run_config
 from qdsega.training.formation_copy import (
     FormationSnapshot,
@@ -70,47 +33,12 @@ from qdsega.training.formation_copy import (
 )
 from qdsega.training.interrupt import InterruptWatch
 from qdsega.training.reconfiguration import JointMapping, warm_record, warm_state
-from qdsega.training.run_folder import (
-    POLICY_FILE,
-    SUMMARY_FILE,
-    WARM_START_FILE,
-    WARM_START_STATE,
-    read_summary,
-    require_finished,
-)
-from qdsega.training.run_lock import LOCK_FILE, run_lock
+from qdsega.training.run_folder import METRIC_COLUMNS, RunFolder
+from qdsega.training.run_lock import run_lock
 from qdsega.training.sims import TrainingSim, build_sim, check_sim, leg_states
-
-METRIC_COLUMNS = (
-    "generation",
-    "actions",
-    "interior_states",
-    "q_entries",
-    "best_distance_m",
-    "mean_distance_m",
-    "greedy_distance_m",
-    "greedy_exact_m",
-    "penalties",
-    "steps",
-    "sim_steps",
-    "wall_s",
-)
-"""metrics.csv: Q-table actions (columns), interior states and entries (states x actions),
-best and mean trial distance toward the light in the learner's world (m), the greedy policy's
-distance there (m: the table's prediction in memo mode) and with exact physics (m), trials that
-ended in a fall, learning steps (commands), upper-agent steps simulated in PyBullet by the run
-so far (memo transitions measured and exact trials' commands; every learning step in exact
-mode; 0 in the MSM), wall seconds of the generation (the exact replay included)."""
 
 _SIM_STEPS = METRIC_COLUMNS.index("sim_steps")
 _GREEDY_EXACT = METRIC_COLUMNS.index("greedy_exact_m")
-_FLOAT_COLUMNS = {
-    "best_distance_m",
-    "mean_distance_m",
-    "greedy_distance_m",
-    "greedy_exact_m",
-    "wall_s",
-}
 
 
 @dataclass(frozen=True)
@@ -191,6 +119,7 @@ def train(
         TrainingInterrupted: Ctrl-C; ``out`` holds the last finished generation.
     """
     out = Path(out)
+    folder = RunFolder(out)
     original = load_formation(formation_file)
     check_sim(config.with_light(original), config)
     warm = None
@@ -199,8 +128,8 @@ def train(
     snapshot = FormationSnapshot.of(original)
     if out.exists() and not out.is_dir():
         raise RunFolderError("not a folder; choose another --out", file=out)
-    if _contents(out) and not (out / "config.yaml").is_file():
-        raise RunFolderError("not empty and not a run folder (no config.yaml)", file=out)
+    if _contents(out) and not folder.started:
+        raise RunFolderError(f"not empty and not a run folder (no {folder.CONFIG})", file=out)
     out.mkdir(parents=True, exist_ok=True)
     with run_lock(out):
         previous = _contents(out)
@@ -215,15 +144,14 @@ def train(
                 shutil.rmtree(entry)
             else:
                 entry.unlink()
-        with replaced_atomically(out / "config.yaml") as partial:
+        with replaced_atomically(folder / folder.CONFIG) as partial:
             partial.write_text(yaml.safe_dump(config.to_dict(), sort_keys=False), encoding="utf-8")
         snapshot.write(out)
         if warm is not None:
             record, mapping, source = warm
-            mapping.save(out / WARM_START_STATE, source)
-            with replaced_atomically(out / WARM_START_FILE) as partial:
-                partial.write_text(json.dumps(record, indent=2) + "\n", encoding="utf-8")
-        return _run(out, load_run_formation(out, config), config, None, progress)
+            mapping.save(folder / folder.WARM_START_STATE, source)
+            folder.write_json(folder.WARM_START, record)
+        return _run(folder, load_run_formation(out, config), config, None, progress)
 
 
 def _warm_source(
@@ -235,11 +163,12 @@ def _warm_source(
     Raises:
         RunFolderError: see :func:`train`.
     """
-    require_finished(run, "config.yaml", CHECKPOINT_FILE)
+    source = RunFolder(run)
+    source.require_finished(source.CONFIG, source.CHECKPOINT)
     source_config = read_run_config(run)
     checkpoint = load_checkpoint(run)
     if checkpoint is None or checkpoint.learner.previous is None:
-        raise RunFolderError(f"not a finished run folder (no {CHECKPOINT_FILE})", file=run)
+        raise RunFolderError(f"not a finished run folder (no {source.CHECKPOINT})", file=run)
     if source_config.task.exterior_bin_edges_deg != config.task.exterior_bin_edges_deg:
         raise ConfigError(
             "its exterior states (task.exterior_bin_edges_deg) differ from this run's; its "
@@ -254,7 +183,7 @@ def _warm_source(
             "carries over (give --allow-unmatched to start from it anyway)",
             file=run,
         )
-    return warm_record(run, read_summary(run), mapping), mapping, checkpoint.learner
+    return warm_record(run, source.read_summary(), mapping), mapping, checkpoint.learner
 
 
 def resume(run: Path | str, *, progress: Progress | None = None) -> dict[str, Any]:
@@ -266,57 +195,84 @@ def resume(run: Path | str, *, progress: Progress | None = None) -> dict[str, An
         TrainingInterrupted: Ctrl-C; ``run`` holds the last finished generation.
     """
     run = Path(run)
+    folder = RunFolder(run)
     if not run.is_dir():
         raise RunFolderError("run folder not found", file=run)
-    if not (run / "config.yaml").is_file():
+    if not folder.started:
         raise RunFolderError(
-            "nothing to resume (no config.yaml); start the run with "
+            f"nothing to resume (no {folder.CONFIG}); start the run with "
             f"qdsega train FORMATION --out {run}",
             file=run,
         )
     config = read_run_config(run)
     with run_lock(run):
-        if (run / SUMMARY_FILE).is_file():
+        if folder.finished:
             raise RunFolderError(
-                f"run is finished ({SUMMARY_FILE} exists); nothing to resume", file=run
+                f"run is finished ({folder.SUMMARY} exists); nothing to resume", file=run
             )
         formation = load_run_formation(run, config)
-        return _run(run, formation, config, load_checkpoint(run), progress)
+        return _run(folder, formation, config, load_checkpoint(run), progress)
+
+
+def train_or_resume(
+    formation_file: Path | str,
+    config: TrainingConfig,
+    out: Path | str,
+    *,
+    progress: Progress | None = None,
+) -> dict[str, Any]:
+    """Make ``out`` a finished run and return its summary: kept when it is finished, resumed
+    when it was started, else trained with ``config``. Sweeps, the benchmark and the
+    experiments make their runs this way, so that running them again finishes what a crash
+    left.
+
+    Raises:
+        RunFolderError, FormationError, ConfigError: as :func:`train` and :func:`resume`.
+        TrainingInterrupted: Ctrl-C; ``out`` holds the last finished generation.
+    """
+    folder = RunFolder(out)
+    if folder.finished:
+        folder.require_finished()
+        return folder.read_summary()
+    if folder.started:
+        return resume(out, progress=progress)
+    return train(formation_file, config, out, progress=progress)
 
 
 def _contents(folder: Path) -> list[Path]:
     """What ``folder`` holds besides its lock file (nothing when it does not exist)."""
     if not folder.is_dir():
         return []
-    return sorted(p for p in folder.iterdir() if p.name != LOCK_FILE)
+    return sorted(p for p in folder.iterdir() if p.name != RunFolder.LOCK)
 
 
 def _run(
-    out: Path,
+    folder: RunFolder,
     formation: Formation,
     config: TrainingConfig,
     checkpoint: Checkpoint | None,
     progress: Progress | None,
 ) -> dict[str, Any]:
     session_start = time.perf_counter()
-    world = build_sim(formation, config, out)
+    out = folder.path
+    sim = build_sim(formation, config, out)
     try:
         learner = QDSEGA(
             config=config.agent,
             levels=np.array([len(j.levels_rad) for j in formation.joints]),
-            world=world.provider,
-            task=world.task,
+            world=sim.provider,
+            task=sim.task,
             rng=np.random.default_rng(config.seed),
         )
         if checkpoint is None:
-            if (out / WARM_START_STATE).is_file():
-                mapping, source = JointMapping.load(out / WARM_START_STATE)
+            if (folder / folder.WARM_START_STATE).is_file():
+                mapping, source = JointMapping.load(folder / folder.WARM_START_STATE)
                 learner.restore(
                     warm_state(
                         mapping,
                         source,
                         levels=learner.levels,
-                        start=world.provider.start_posture(),
+                        start=sim.provider.start_posture(),
                         population=config.agent.genetic.population,
                         rng=learner.rng,
                     )
@@ -326,9 +282,9 @@ def _run(
         else:
             try:
                 learner.restore(checkpoint.learner)
-                world.restore(checkpoint.world)
+                sim.restore(checkpoint.world)
             except ValueError as exc:
-                message = f"checkpoint.npz does not fit config.yaml ({exc})"
+                message = f"{folder.CHECKPOINT} does not fit {folder.CONFIG} ({exc})"
                 raise RunFolderError(message, file=out) from None
         first_elapsed, resumed_at = checkpoint.elapsed_s, checkpoint.learner.completed
         simulated = int(checkpoint.metrics[-1, _SIM_STEPS]) if len(checkpoint.metrics) else 0
@@ -337,35 +293,41 @@ def _run(
         with InterruptWatch() as watch:
             try:
                 while learner.completed < config.agent.genetic.generations:
-                    handed_on = world.verify_untried(learner)
+                    path = learner.untried_path  # ask: a handed-on path no trial has verified
+                    handed_on = None if path is None else sim.verify(path)
                     if handed_on is not None:
-                        _record_handed_on(out, handed_on)
+                        learner.verify(handed_on)  # tell
+                        _record_handed_on(folder, handed_on)
                     generation = learner.step()
-                    trials = world.replay(generation, learner)
+                    optimistic = sim.optimistic_table(generation)
+                    hopeful = None
+                    if optimistic is not None:  # ask: what the table may underrate
+                        hopeful = learner.explore(generation, *optimistic)
+                    trials = sim.replay(generation, learner.levels, hopeful=hopeful)
                     exact = trials[0]  # the greedy replay
                     for trial in trials:
-                        learner.verify(trial)
+                        learner.verify(trial)  # tell
                     elapsed = first_elapsed + time.perf_counter() - session_start
-                    sim_steps = simulated + world.simulated_steps()
+                    sim_steps = simulated + sim.simulated_steps()
                     checkpoint = _advance(
-                        checkpoint, generation, exact, learner, world, sim_steps, elapsed
+                        checkpoint, generation, exact, learner, sim, sim_steps, elapsed
                     )
-                    world.save(out)
+                    sim.save(out)
                     save_checkpoint(out, checkpoint)
-                    _write_metrics(out, checkpoint.metrics)
+                    folder.write_metrics(checkpoint.metrics)
                     if progress is not None:
                         report = _report(
                             checkpoint, generation, exact, config, session_start, resumed_at
                         )
                         progress.generation(report)
-                return _finish(out, formation, config, world, checkpoint)
+                return _finish(folder, formation, config, sim, checkpoint)
             except BaseException as exc:
                 if not (watch.interrupted or isinstance(exc, KeyboardInterrupt)):
                     raise
-                world.save(out)  # transitions measured since the checkpoint are kept too
+                sim.save(out)  # transitions measured since the checkpoint are kept too
                 raise TrainingInterrupted(out, checkpoint.learner.completed) from None
     finally:
-        world.close()
+        sim.close()
 
 
 def _first_checkpoint(formation: Formation, config: TrainingConfig, learner: QDSEGA) -> Checkpoint:
@@ -389,7 +351,7 @@ def _advance(
     generation: Generation,
     exact: Rollout,
     learner: QDSEGA,
-    world: TrainingSim,
+    sim: TrainingSim,
     sim_steps: int,
     elapsed_s: float,
 ) -> Checkpoint:
@@ -423,7 +385,7 @@ def _advance(
         poses=np.concatenate([checkpoint.poses, generation.greedy.poses[None]]),
         exact_poses=np.concatenate([checkpoint.exact_poses, exact.poses[None]]),
         gait=gait,
-        world=world.state(),
+        world=sim.state(),
         env_steps=checkpoint.env_steps + generation.steps,
         elapsed_s=elapsed_s,
         result=result,
@@ -454,56 +416,41 @@ def _report(
     )
 
 
-def _write_metrics(out: Path, metrics: np.ndarray) -> None:
-    """metrics.csv from the checkpoint's rows, written then renamed."""
-    with (
-        replaced_atomically(out / "metrics.csv") as partial,
-        partial.open("w", newline="", encoding="utf-8") as stream,
-    ):
-        writer = csv.writer(stream)
-        writer.writerow(METRIC_COLUMNS)
-        for row in metrics:
-            writer.writerow(
-                f"{value:.6f}" if name in _FLOAT_COLUMNS else str(int(value))
-                for name, value in zip(METRIC_COLUMNS, row, strict=True)
-            )
-
-
 def _finish(
-    out: Path,
+    folder: RunFolder,
     formation: Formation,
     config: TrainingConfig,
-    world: TrainingSim,
+    sim: TrainingSim,
     checkpoint: Checkpoint,
 ) -> dict[str, Any]:
     """Write trajectories.npz, policy.npz and, last, summary.json from the final checkpoint."""
     policy = checkpoint.result_policy
     assert policy is not None, "a finished run has learnt a generation"
-    light = tuple(float(v) for v in world.task.light)
-    optimum = world.optimum
+    light = tuple(float(v) for v in sim.task.light)
+    optimum = sim.optimum
     gait = checkpoint.gait
     np.savez_compressed(
-        out / "trajectories.npz",
+        folder / folder.TRAJECTORIES,
         poses=checkpoint.poses,
         exact_poses=checkpoint.exact_poses,
         gait_postures=gait,
         gait_angles_deg=np.degrees([formation.posture_rad(p) for p in gait]),
         joint_names=np.array([j.name for j in formation.joints], dtype=str),
-        gait_legs=leg_states(world.layout, gait),
-        leg_names=np.array([] if world.layout is None else world.layout.names, dtype=str),
+        gait_legs=leg_states(sim.layout, gait),
+        leg_names=np.array([] if sim.layout is None else sim.layout.names, dtype=str),
         optimum_postures=np.zeros((0, len(formation.joints)), dtype=np.int64)
         if optimum is None
         else optimum.postures,
         light=np.array(light),
     )
-    policy.save(out / POLICY_FILE)
+    policy.save(folder / folder.POLICY)
     last = checkpoint.metrics[-1]
     best = checkpoint.metrics[checkpoint.result - 1]
     greedy_distance = float(best[METRIC_COLUMNS.index("greedy_distance_m")])
     distance = float(best[_GREEDY_EXACT])
     summary = {
         "formation": formation.name,
-        **read_formation_record(out).summary(),
+        **read_formation_record(folder.path).summary(),
         "sim": config.sim,
         "preset": config.preset,
         "seed": config.seed,
@@ -522,29 +469,21 @@ def _finish(
         "final_heading_deg": math.degrees(checkpoint.exact_poses[checkpoint.result - 1, -1, 2]),
         "light_xy": list(light),
         "wall_s": checkpoint.elapsed_s,
-        "warm_start": _read_warm_record(out),
+        "warm_start": folder.read_warm_start(),
     }
-    with replaced_atomically(out / SUMMARY_FILE) as partial:
-        partial.write_text(json.dumps(summary, indent=2) + "\n", encoding="utf-8")
+    folder.write_json(folder.SUMMARY, summary)
     return summary
 
 
-def _read_warm_record(run: Path) -> dict[str, Any] | None:
-    """``warm_start.json`` of a warm-started run, else None."""
-    file = run / WARM_START_FILE
-    return json.loads(file.read_text(encoding="utf-8")) if file.is_file() else None
-
-
-def _record_handed_on(run: Path, trial: Rollout) -> None:
+def _record_handed_on(folder: RunFolder, trial: Rollout) -> None:
     """Add to ``warm_start.json`` how far the handed-on path walked on this body with
     exact physics (``handed_on_m``, m), verified before the first generation, and the
     commands that took (``handed_on_steps``: its simulated steps)."""
-    record = _read_warm_record(run)
+    record = folder.read_warm_start()
     assert record is not None, "only a warm start hands a path on"
     record["handed_on_m"] = trial.distance_m
     record["handed_on_steps"] = len(trial.postures)
-    with replaced_atomically(run / WARM_START_FILE) as partial:
-        partial.write_text(json.dumps(record, indent=2) + "\n", encoding="utf-8")
+    folder.write_json(folder.WARM_START, record)
 
 
 def _relative_error(predicted: float, exact: float) -> float | None:

@@ -17,8 +17,8 @@ from contextlib import contextmanager
 from pathlib import Path
 
 from qdsega.errors import RunFolderError
+from qdsega.training.run_folder import RunFolder
 
-LOCK_FILE = "train.lock"
 """Locked by the process writing the run folder."""
 
 
@@ -29,7 +29,7 @@ def run_lock(run: Path) -> Iterator[None]:
     Raises:
         RunFolderError: another process holds it.
     """
-    descriptor = os.open(run / LOCK_FILE, os.O_RDWR | os.O_CREAT, 0o644)
+    descriptor = os.open(run / RunFolder.LOCK, os.O_RDWR | os.O_CREAT, 0o644)
     try:
         try:
             fcntl.flock(descriptor, fcntl.LOCK_EX | fcntl.LOCK_NB)

@@ -23,22 +23,21 @@ import numpy as np
 from qdsega.agent.boltzmann import temperature
 from qdsega.agent.genetic import vary_gait
 from qdsega.agent.grounding import GroundedTransitions
-from qdsega.agent.learner import QDSEGA, Generation
+from qdsega.agent.learner import Generation
 from qdsega.agent.policy import BoltzmannPolicy, Policy, Rollout, SequencePolicy
-from qdsega.agent.world import TransitionProvider, World
+from qdsega.agent.world import TransitionProvider, Transitions, World
 from qdsega.description import Formation
 from qdsega.errors import FormationError
 from qdsega.msm import LegLayout, MinimalSimulationModel, Optimum, msm_optimum
 from qdsega.task import Task
 from qdsega.training.config import TrainingConfig
+from qdsega.training.run_folder import RunFolder
 
 if TYPE_CHECKING:
     from qdsega.locomotion.env import LocomotionEnv
     from qdsega.locomotion.exact_trials import ExactTrials
     from qdsega.simulation.camera import CameraConfig
 
-MEMO_FILE = "transitions.npz"
-"""The memo table in a run folder."""
 _SEARCH_STREAM = 1_000_000
 """Local-search trials of generation ``g`` draw from a generator seeded ``(seed, g, this)``,
 a stream no exploring trial uses."""
@@ -86,25 +85,35 @@ class TrainingSim:
     _best: tuple[np.ndarray, float] | None = field(default=None, init=False, repr=False)
     """The commands (k, J) and distance (m) of the best local-search parent so far."""
 
-    def replay(self, generation: Generation, learner: QDSEGA) -> list[Rollout]:
+    def optimistic_table(
+        self, generation: Generation
+    ) -> tuple[Transitions, np.random.Generator] | None:
+        """With a grounded table and ``optimism``: the table's upper bound over
+        ``generation``'s space, and the generator one more learning phase on it draws from,
+        so that the learner can propose the greedy policy the table may underrate (exact
+        physics tries it in :meth:`replay`); else None."""
+        if self.grounded is None or self.optimism <= 0:
+            return None
+        space = generation.space
+        upper = self.grounded.transitions(space.postures, space.actions, confidence=self.optimism)
+        return upper, np.random.default_rng([self.seed, generation.index, self.explore[0]])
+
+    def replay(
+        self, generation: Generation, levels: np.ndarray, *, hopeful: Policy | None = None
+    ) -> list[Rollout]:
         """The generation's greedy policy replayed with exact physics (its own greedy trial
         where the learner's world is exact), then ``local_search`` neighbours of the best
-        exact trial so far (:meth:`_search`): the trials the learner may verify. A grounded
-        table learns their moves, and those of ``explore`` trials of the generation's policy
-        at the Boltzmann temperature and, with ``optimism``, of the greedy policy ``learner``
-        learns on the table's upper bound; the greedy replay is observed last."""
+        exact trial so far (:meth:`_search`; ``levels``: each joint's level count): the trials
+        to tell the learner. A grounded table learns their moves, and those of ``explore``
+        trials of the generation's policy at the Boltzmann temperature and of ``hopeful`` (the
+        policy learnt on :meth:`optimistic_table`); the greedy replay is observed last."""
         if self.exact is None:
             return [generation.greedy]
         policies: list[Policy] = [generation.policy]
         if self.grounded is not None:  # exploring trials first: the greedy one is seen last
             trials, temperature = self.explore
-            if self.optimism > 0:
-                space = generation.space
-                upper = self.grounded.transitions(
-                    space.postures, space.actions, confidence=self.optimism
-                )
-                rng = np.random.default_rng([self.seed, generation.index, trials])
-                policies.insert(0, learner.explore(generation, upper, rng))
+            if hopeful is not None:
+                policies.insert(0, hopeful)
             policies = [
                 BoltzmannPolicy(
                     greedy=generation.policy,
@@ -115,27 +124,22 @@ class TrainingSim:
             ] + policies
         outcomes = self.exact.rollouts(policies, steps=self.task.trial_steps)
         greedy = outcomes[-1]
-        searched = self._search(generation.index, learner.levels, greedy)
+        searched = self._search(generation.index, levels, greedy)
         if self.grounded is not None:
             for trial in [*outcomes[:-1], *searched, greedy]:
                 self.grounded.observe(trial, generation.space.postures[0])
         return [greedy, *searched]
 
-    def verify_untried(self, learner: QDSEGA) -> Rollout | None:
-        """Before a generation learns: replay the path a warm start handed on and no trial
-        has verified yet (``learner.untried_path``) open loop with exact physics; a grounded
-        table learns its moves, the local search may take it as its parent, and the learner
-        verifies it (so the generation imitates and keeps it knowing what it is worth).
-        Returns that trial; None (and nothing done) without such a path or without exact
-        physics."""
-        path = learner.untried_path
-        if path is None or self.exact is None:
+    def verify(self, path: np.ndarray) -> Rollout | None:
+        """Replay ``path`` (k, J), a path a warm start handed on, open loop with exact physics;
+        a grounded table learns its moves and the local search may take it as its parent.
+        Returns the trial, for the learner to be told; None without exact physics."""
+        if self.exact is None:
             return None
         (trial,) = self.exact.rollouts([SequencePolicy(commands=path)], steps=self.task.trial_steps)
         if self.grounded is not None:
-            self.grounded.observe(trial, learner.world.start_posture())
+            self.grounded.observe(trial, self.provider.start_posture())
         self._keep_best(trial)
-        learner.verify(trial)
         return trial
 
     def _search(self, index: int, levels: np.ndarray, greedy: Rollout) -> list[Rollout]:
@@ -194,7 +198,7 @@ class TrainingSim:
         memo = self.grounded.base if self.grounded is not None else self.provider
         save = getattr(memo, "save", None)
         if save is not None:
-            save(run / MEMO_FILE)
+            save(run / RunFolder.TRANSITIONS)
 
     def close(self) -> None:
         for world in (self.grounded.base if self.grounded else self.provider, self.exact):
@@ -248,8 +252,8 @@ def build_sim(formation: Formation, config: TrainingConfig, run: Path) -> Traini
         workers=config.workers,
         ray=config.ray,
     )
-    if (run / MEMO_FILE).is_file():
-        memo.load(run / MEMO_FILE)
+    if (run / RunFolder.TRANSITIONS).is_file():
+        memo.load(run / RunFolder.TRANSITIONS)
     grounded = GroundedTransitions(base=memo) if config.ground_table else None
     provider = grounded if grounded is not None else memo
     learning = config.agent.learning

@@ -44,9 +44,7 @@ def connect(address: str, *, cpus: int = 0) -> Any:
         ray.init(address=address, log_to_driver=False, **options)
     available = ray.cluster_resources().get("CPU", 0)
     if cpus > available:  # actors of one CPU each would wait forever
-        raise WorkerError(
-            f"{cpus} Ray workers need {cpus} CPUs; the Ray cluster has {available:g}"
-        )
+        raise WorkerError(f"{cpus} Ray workers need {cpus} CPUs; the Ray cluster has {available:g}")
     return ray
 
 

@@ -12,7 +12,7 @@ from helpers import run_cli
 
 from qdsega.bench.tasks import QUICK
 from qdsega.commands import bench
-from qdsega.errors import FormationError
+from qdsega.errors import ConfigError
 
 pytestmark = pytest.mark.skipif(
     importlib.util.find_spec("stable_baselines3") is None, reason="needs qdsega[bench]"
@@ -56,5 +56,5 @@ def test_a_rerun_skips_every_finished_run(quick):
 def test_ppo_without_stable_baselines3_is_refused_with_one_line(monkeypatch):
     monkeypatch.setattr(importlib.util, "find_spec", lambda name: None)
     args = argparse.Namespace(quick=True, out=None, jobs=1)
-    with pytest.raises(FormationError, match=r"pip install 'qdsega\[bench\]'"):
+    with pytest.raises(ConfigError, match=r"pip install 'qdsega\[bench\]'"):
         bench.run(args)

@@ -40,7 +40,7 @@ def test_a_broken_run_is_reported_and_the_others_finish(local_sweep):
     assert float(ok["distance_m"]) >= 0 and ok["reference"] == "classic leg gait"
     assert broken["status"] == "failed"
     assert "Minimal Simulation Model needs a legged formation" in broken["error"]
-    assert "snake5-paper-legged-tiny-seed0: qdsega train: error:" in result.stdout
+    assert "snake5-paper-legged-tiny-seed0: train: " in result.stdout
     assert (folder / "out" / "sweep.md").read_text().count("\n") == 4  # header, rule, 2 rows
 
 

@@ -13,13 +13,9 @@ import numpy as np
 from qdsega.agent.learner import Generation, LearnerState
 from qdsega.agent.policy import Rollout
 from qdsega.agent.space import ExplorationSpace
-from qdsega.training.checkpoint import (
-    CHECKPOINT_FILE,
-    Checkpoint,
-    load_checkpoint,
-    save_checkpoint,
-)
-from qdsega.training.run import METRIC_COLUMNS, _advance, _first_checkpoint
+from qdsega.training.checkpoint import Checkpoint, load_checkpoint, save_checkpoint
+from qdsega.training.run import _advance, _first_checkpoint
+from qdsega.training.run_folder import METRIC_COLUMNS, RunFolder
 
 STEPS = 3
 JOINTS = 2
@@ -118,7 +114,7 @@ def test_the_result_survives_a_checkpoint_round_trip(tmp_path: Path):
 
 def test_a_checkpoint_from_before_results_reports_its_last_generation(tmp_path: Path):
     save_checkpoint(tmp_path, _learn([0.2, 0.9, 0.4]))
-    file = tmp_path / CHECKPOINT_FILE
+    file = tmp_path / RunFolder.CHECKPOINT
     with np.load(file) as data:
         arrays = {name: data[name] for name in data.files if not name.startswith("result_")}
     meta = json.loads(str(arrays.pop("meta")))

@@ -8,12 +8,13 @@ import sys
 import pytest
 
 from qdsega.errors import RunFolderError
-from qdsega.training.run_lock import LOCK_FILE, run_lock
+from qdsega.training.run_folder import RunFolder
+from qdsega.training.run_lock import run_lock
 
 
 def test_a_second_holder_is_refused_until_the_first_lets_go(tmp_path):
     with run_lock(tmp_path):
-        assert (tmp_path / LOCK_FILE).read_text().strip().isdigit()
+        assert (tmp_path / RunFolder.LOCK).read_text().strip().isdigit()
         with (
             pytest.raises(RunFolderError, match="another qdsega train") as refused,
             run_lock(tmp_path),
@@ -27,6 +28,6 @@ def test_a_second_holder_is_refused_until_the_first_lets_go(tmp_path):
 def test_a_lock_file_left_by_a_dead_process_does_not_block(tmp_path):
     dead = subprocess.run([sys.executable, "-c", "import os; print(os.getpid())"],
                           capture_output=True, text=True, check=True).stdout  # fmt: skip
-    (tmp_path / LOCK_FILE).write_text(dead)
+    (tmp_path / RunFolder.LOCK).write_text(dead)
     with run_lock(tmp_path):
-        assert (tmp_path / LOCK_FILE).read_text() != dead
+        assert (tmp_path / RunFolder.LOCK).read_text() != dead

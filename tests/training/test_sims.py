@@ -1,6 +1,6 @@
-"""The training world's local search: a (1 + lambda) strategy over open-loop gaits that keeps
-the best exact trial as its parent, draws the same on a resumed run, and hands its trials to
-the learner."""
+"""The training simulator's local search: a (1 + lambda) strategy over open-loop gaits that
+keeps the best exact trial as its parent, draws the same on a resumed run, and returns its
+trials for the learner to be told."""
 
 from __future__ import annotations
 
@@ -49,8 +49,7 @@ def _generation(index: int) -> SimpleNamespace:
 
 
 def _climb(world: TrainingSim, generations: range) -> list[list[Rollout]]:
-    learner = SimpleNamespace(levels=LEVELS)
-    return [world.replay(_generation(g), learner) for g in generations]  # type: ignore[arg-type]
+    return [world.replay(_generation(g), LEVELS) for g in generations]  # type: ignore[arg-type]
 
 
 def test_the_local_search_climbs_from_the_best_trial_and_resumes_to_the_same_draws():
@@ -77,23 +76,19 @@ def test_no_local_search_replays_the_greedy_policy_only():
     assert len(trials) == 1 and world.exact.trials == 1 and world.state() == {}
 
 
-def test_an_untried_path_is_verified_first_and_becomes_the_search_parent():
+def test_a_handed_on_path_is_verified_and_becomes_the_search_parent():
     world = _world(local_search=2)
     path = np.array([[8, 0, 0], [7, 1, 1]])  # 0.75 m, beyond the greedy gait's 0.25 m
-    verified: list[Rollout] = []
-    learner = SimpleNamespace(
-        levels=LEVELS,
-        untried_path=path,
-        world=SimpleNamespace(start_posture=lambda: np.zeros(3, dtype=np.int64)),
-        verify=verified.append,
-    )
-    world.verify_untried(learner)  # type: ignore[arg-type]
-    assert world.exact.trials == 1 and [t.distance_m for t in verified] == [0.75]
-    assert np.array_equal(verified[0].postures[:2], path)
-    trials = world.replay(_generation(1), learner)  # type: ignore[arg-type]
+    verified = world.verify(path)
+    assert world.exact.trials == 1 and verified is not None and verified.distance_m == 0.75
+    assert np.array_equal(verified.postures[:2], path)
+    trials = world.replay(_generation(1), LEVELS)  # type: ignore[arg-type]
     assert trials[0].distance_m == 0.25  # the greedy replay, then neighbours of the path
     assert all((t.postures[:2] != path).sum() <= 1 for t in trials[1:])
     assert world.state()["search_distance_m"][0] >= 0.75
-    learner.untried_path = None
-    world.verify_untried(learner)  # type: ignore[arg-type]
-    assert world.exact.trials == 4  # nothing more to verify
+
+
+def test_without_exact_physics_nothing_is_verified():
+    world = _world(local_search=2)
+    world.exact = None
+    assert world.verify(np.array([[8, 0, 0]])) is None

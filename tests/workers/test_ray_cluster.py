@@ -8,7 +8,7 @@ import pytest
 from qdsega.description import load_formation
 from qdsega.locomotion.lower_agent import LowerAgentConfig
 from qdsega.locomotion.memo import MeasuredTransitions
-from qdsega.training.sims import MEMO_FILE
+from qdsega.training.run_folder import RunFolder
 
 ray = pytest.importorskip("ray", reason="Ray is an optional extra: pip install 'qdsega[ray]'")
 
@@ -55,7 +55,7 @@ def test_a_run_with_ray_local_learns_what_local_processes_learn(tmp_path):
             "--config", tmp_path / "tiny.yaml", "--out", runs[name], "--quiet", *extra,
         )  # fmt: skip
         assert result.returncode == 0, result.stderr
-    memo = MEMO_FILE
+    memo = RunFolder.TRANSITIONS
     with np.load(runs["local"] / memo) as local, np.load(runs["ray"] / memo) as ray_:
         assert np.array_equal(local["pairs"], ray_["pairs"])
         assert np.array_equal(local["values"], ray_["values"])
