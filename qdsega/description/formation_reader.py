@@ -25,7 +25,7 @@ from qdsega.description.limits import (
     REPEAT_INDEX,
 )
 from qdsega.description.shipped import UNITS_DIR
-from qdsega.description.unit_type import JointSpec, UnitType, load_unit_type
+from qdsega.description.unit_type import JointSpec, UnitType, find_unit_type, load_unit_type
 from qdsega.errors import FormationError
 from qdsega.yaml_reader import KeyPath, Reader, load_yaml
 
@@ -65,8 +65,9 @@ def load_formation(file: Path | str, *, units_dir: Path | None = None) -> Format
 
     Args:
         file: the formation YAML.
-        units_dir: where unit types live; default: the file's ``units_dir`` key, else the
-            shipped ``units/``.
+        units_dir: the one folder unit types come from (a run folder's copy); default: the
+            file's ``units_dir`` key, a folder of the user's own unit types searched beside
+            the shipped ``units/``, else the shipped ``units/`` alone.
 
     Raises:
         FormationError: one line naming the file, the line, the key path and what is wrong.
@@ -76,10 +77,9 @@ def load_formation(file: Path | str, *, units_dir: Path | None = None) -> Format
     top = reader.mapping((), reader.document.data, required=_TOP_KEYS, optional=_TOP_OPTIONAL)
     name = reader.text(("name",), top["name"])
     description = reader.text(("description",), top.get("description", name))
-    if units_dir is None:
-        units_dir = UNITS_DIR
-        if "units_dir" in top:
-            units_dir = file.parent / reader.text(("units_dir",), top["units_dir"])
+    units_dirs = [UNITS_DIR] if units_dir is None else [units_dir]
+    if units_dir is None and "units_dir" in top:
+        units_dirs.insert(0, file.parent / reader.text(("units_dir",), top["units_dir"]))
     default_friction = _read_friction(reader, ("friction",), top.get("friction", {}), None)
     light = _read_light(reader, top["light"])
     templates = _read_templates(reader, top.get("templates", {}))
@@ -92,7 +92,7 @@ def load_formation(file: Path | str, *, units_dir: Path | None = None) -> Format
         if raw.name in seen:
             raise _error(reader, raw, "name", f"duplicate unit name '{raw.name}'")
         seen[raw.name] = raw
-        units.append(_read_unit(reader, raw, unit_types, units_dir, default_friction))
+        units.append(_read_unit(reader, raw, unit_types, units_dirs, default_friction))
     ordered = _tree_order(reader, units, {u.name: seen[u.name] for u in units})
     legs, broken = _resolve_legs(reader, leg_specs, {u.name: u for u in ordered})
     return Formation(
@@ -269,14 +269,14 @@ def _read_unit(
     reader: Reader,
     raw: _RawUnit,
     unit_types: dict[str, UnitType],
-    units_dir: Path,
+    units_dirs: list[Path],
     default_friction: Friction,
 ) -> PlacedUnit:
     f = raw.fields
     type_name = reader.text(f["unit"].path, f["unit"].value)
     if type_name not in unit_types:
         try:
-            unit_types[type_name] = load_unit_type(units_dir, type_name)
+            unit_types[type_name] = load_unit_type(find_unit_type(units_dirs, type_name), type_name)
         except FormationError as exc:
             if exc.file is None:  # the unit folder is missing: blame the formation line
                 raise _error(reader, raw, "unit", exc.message) from None

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import math
 import xml.etree.ElementTree as ET
+from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -86,6 +87,34 @@ class UnitType:
     @property
     def is_active(self) -> bool:
         return self.joint is not None
+
+
+def find_unit_type(units_dirs: Sequence[Path], name: str) -> Path:
+    """The first folder of ``units_dirs`` that defines unit type ``name`` (holds
+    ``name/unit.yaml``). Two folders may define it only alike (a copy of a shipped type, file
+    for file).
+
+    Raises:
+        FormationError: no folder defines it, or two define it differently (the message names
+            both files).
+    """
+    if Path(name).name != name or name in (".", ".."):
+        raise FormationError(f"a unit type is a folder name in {units_dirs[0]}, got '{name}'")
+    folders = list(dict.fromkeys(folder.resolve() for folder in units_dirs))
+    found = [folder for folder in folders if (folder / name / "unit.yaml").is_file()]
+    if len(found) > 1 and _contents(found[0] / name) != _contents(found[1] / name):
+        first, second = (folder / name / "unit.yaml" for folder in found[:2])
+        raise FormationError(f"unit type '{name}' is defined twice: {first} and {second}")
+    if not found:
+        where = " or ".join(str(folder / name / "unit.yaml") for folder in folders)
+        raise FormationError(f"unknown unit type '{name}' (no {where})")
+    return found[0]
+
+
+def _contents(folder: Path) -> dict[str, bytes]:
+    """Every file under ``folder`` by its relative path (a unit folder holds a few)."""
+    files = (f for f in folder.rglob("*") if f.is_file() and "__pycache__" not in f.parts)
+    return {f.relative_to(folder).as_posix(): f.read_bytes() for f in files}
 
 
 def load_unit_type(units_dir: Path, name: str) -> UnitType:

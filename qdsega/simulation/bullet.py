@@ -225,6 +225,22 @@ class BulletSimulation:
         """Free a snapshot taken with save_state."""
         self.client.removeState(state_id)
 
+    def place_joints(self, joint_ids: Sequence[int], angles_rad: Sequence[float]) -> None:
+        """Set the joints with PyBullet ids ``joint_ids`` (see :attr:`joint_ids`) to these
+        angles (rad) at once, without physics: to look at a posture, not to move into it."""
+        if len(joint_ids):
+            self.client.resetJointStatesMultiDof(
+                self.body_id, [int(j) for j in joint_ids], [[float(a)] for a in angles_rad]
+            )
+
+    def self_contacts(self) -> list[tuple[str, str, float]]:
+        """Pairs of this robot's units that touch or overlap now, as (unit, unit, signed
+        distance (m), negative where they overlap). Parent-child pairs never count, nor any
+        pair when self-collision is off (:class:`PhysicsSettings`)."""
+        self.client.performCollisionDetection()
+        points = self._get_contact_points(bodyA=self.body_id, bodyB=self.body_id)
+        return [(self._unit_of_link[p[3]], self._unit_of_link[p[4]], p[8]) for p in points]
+
     def ground_contacts(self) -> set[str]:
         """Names of the units that touch the ground now."""
         points = self._get_contact_points(bodyA=self.body_id, bodyB=self.plane_id)

@@ -1,12 +1,15 @@
 """A run folder's own copy of its formation, so that a finished run never reads the original.
 
-``RUN/formation/`` holds the formation file and every file of the unit types it uses
-(``unit.yaml``, the link template, meshes), laid out as they are in their project folder (the
-folder holding the units folder), so that :func:`qdsega.description.load_formation` reads the
-same formation from the copy. ``RUN/formation.json`` records, written last:
+``RUN/formation/`` holds the formation file and, in ``units/``, every file of the unit types it
+uses (``unit.yaml``, the link template, meshes), the user's own and the shipped ones alike,
+laid out as in their project folder (the folder holding a units folder), so that
+:func:`qdsega.description.load_formation` reads the same formation from the copy alone.
+``RUN/formation.json`` records, written last:
 
 * ``formation``, ``units_dir``: the formation file and the units folder inside ``formation/``;
-* ``source_file``, ``source_dir``: the original formation file and project folder (absolute);
+* ``source_file``, ``source_dir``: the original formation file and the project folder of its
+  first unit type (absolute); ``sources``: the original of every copied file (absolute; a
+  record written before it existed finds them under ``source_dir``);
 * ``files``: the sha256 (hex) of every copied file, by its path inside ``formation/``;
 * ``sha256``: the formation's content hash, the sha256 of the lines ``<file sha256>  <path>``
   (sorted by path, each ending in a newline): the same for the same files anywhere.
@@ -33,6 +36,9 @@ from qdsega.errors import FormationError, QdsegaWarning, RunFolderError
 from qdsega.training.config import TrainingConfig
 from qdsega.training.run_folder import RunFolder
 
+_UNITS = "units"
+"""The folder inside ``formation/`` that holds the copied unit types."""
+
 
 @dataclass(frozen=True, kw_only=True)
 class FormationRecord:
@@ -43,6 +49,7 @@ class FormationRecord:
     source_file: str
     source_dir: str
     files: dict[str, str]
+    sources: dict[str, str] | None = None
 
     @property
     def sha256(self) -> str:
@@ -55,7 +62,11 @@ class FormationRecord:
 
     def source(self, path: str) -> Path:
         """Where the copied file ``path`` (inside ``formation/``) came from."""
-        return Path(self.source_file) if path == self.formation else Path(self.source_dir) / path
+        if path == self.formation:
+            return Path(self.source_file)
+        if self.sources is not None:
+            return Path(self.sources[path])
+        return Path(self.source_dir) / path
 
 
 @dataclass(frozen=True)
@@ -82,7 +93,7 @@ class FormationSnapshot:
         unit_files: dict[str, Path] = {}
         for unit_type in {u.unit_type.name: u.unit_type for u in formation.units}.values():
             folder = unit_type.folder.resolve()
-            inside = f"{units_dir.name}/{unit_type.name}"
+            inside = f"{_UNITS}/{unit_type.name}"
             for file in (
                 folder / "unit.yaml",
                 unit_type.template_file.resolve(),
@@ -101,10 +112,11 @@ class FormationSnapshot:
             raise FormationError(f"cannot copy the formation: {exc}", file=formation.file) from None
         record = FormationRecord(
             formation=source.name,
-            units_dir=units_dir.name,
+            units_dir=_UNITS,
             source_file=str(source),
             source_dir=str(units_dir.parent),
             files={path: _sha256(data) for path, data in sorted(contents.items())},
+            sources={path: str(file) for path, file in sorted(unit_files.items())},
         )
         return cls(record=record, contents=contents)
 

@@ -15,9 +15,18 @@ name: robot
 light: {distance_m: 3}
 units_dir: ../units
 units:
-  - {name: head, unit: servo}
-  - {name: tail, unit: servo, parent: head, connector: back, axis: yaw, levels_deg: [-10, 10]}
+  - {name: head, unit: my_servo}
+  - {name: tail, unit: my_servo, parent: head, connector: back, axis: yaw, levels_deg: [-10, 10]}
 """
+
+
+@pytest.fixture(autouse=True)
+def _own_servo(request):
+    """In a scratch project, the servo is a unit type of the user's own, ``my_servo``: its
+    files can be broken without clashing with the shipped servo."""
+    if "project" in request.fixturenames:
+        units = request.getfixturevalue("project") / "units"
+        (units / "servo").rename(units / "my_servo")
 
 
 def test_assembles_every_shipped_formation_and_prints_a_table(tmp_path):
@@ -113,16 +122,16 @@ def test_missing_parent(project):
 
 def test_cycle(project):
     text = GOOD + (
-        "  - {name: a, unit: servo, parent: b, connector: back, axis: yaw, levels_deg: [0]}\n"
-        "  - {name: b, unit: servo, parent: a, connector: back, axis: yaw, levels_deg: [0]}\n"
+        "  - {name: a, unit: my_servo, parent: b, connector: back, axis: yaw, levels_deg: [0]}\n"
+        "  - {name: b, unit: my_servo, parent: a, connector: back, axis: yaw, levels_deg: [0]}\n"
     )
     _assert_rejected(project, text, "is in a cycle", line=7)
 
 
 def test_no_root_is_a_cycle(project):
     text = GOOD.replace(
-        "{name: head, unit: servo}",
-        "{name: head, unit: servo, parent: tail, connector: back, axis: yaw, levels_deg: [0]}",
+        "{name: head, unit: my_servo}",
+        "{name: head, unit: my_servo, parent: tail, connector: back, axis: yaw, levels_deg: [0]}",
     )
     _assert_rejected(project, text, "no root unit")
 
@@ -143,25 +152,25 @@ def test_levels_outside_limits(project):
 
 
 def test_missing_unit_type(project):
-    text = GOOD.replace("name: tail, unit: servo", "name: tail, unit: gearbox")
+    text = GOOD.replace("name: tail, unit: my_servo", "name: tail, unit: gearbox")
     _assert_rejected(project, text, "units[1].unit: unknown unit type 'gearbox'", line=6)
 
 
 def test_zero_mass(project):
-    unit = project / "units" / "servo" / "unit.yaml"
+    unit = project / "units" / "my_servo" / "unit.yaml"
     unit.write_text(unit.read_text().replace("mass_kg: 0.15", "mass_kg: 0"))
     message = _assert_rejected(project, GOOD, "mass_kg: must be in (0, 100], got 0")
-    assert "units/servo/unit.yaml:" in message
+    assert "units/my_servo/unit.yaml:" in message
 
 
 def test_negative_size(project):
-    template = project / "units" / "servo" / "link.urdf"
+    template = project / "units" / "my_servo" / "link.urdf"
     text = template.read_text().replace(
         '<box size="0.1 0.05 0.05"/>', '<box size="0.1 -0.05 0.05"/>'
     )
     template.write_text(text)
     message = _assert_rejected(project, GOOD, "box size must be in (0, 10]")
-    assert "units/servo/link.urdf" in message
+    assert "units/my_servo/link.urdf" in message
 
 
 def test_zero_light_distance(project):
@@ -171,7 +180,7 @@ def test_zero_light_distance(project):
 
 
 def test_mesh_path_escaping_the_project(project):
-    template = project / "units" / "servo" / "link.urdf"
+    template = project / "units" / "my_servo" / "link.urdf"
     escaping = '<mesh filename="../../../outside.stl"/>'
     text = template.read_text().replace('<box size="0.096 0.05 0.05"/>', escaping)
     template.write_text(text)
@@ -182,7 +191,7 @@ def test_mesh_path_escaping_the_project(project):
 def test_mesh_inside_the_unit_folder_is_copied_next_to_the_urdf(project, tmp_path):
     import trimesh
 
-    folder = project / "units" / "servo"
+    folder = project / "units" / "my_servo"
     (folder / "meshes").mkdir()
     trimesh.creation.box(extents=(0.096, 0.05, 0.05)).export(folder / "meshes" / "housing.stl")
     template = folder / "link.urdf"
@@ -195,8 +204,8 @@ def test_mesh_inside_the_unit_folder_is_copied_next_to_the_urdf(project, tmp_pat
     out = tmp_path / "built" / "robot.urdf"
     result = run_cli("assemble", file, "-o", out, cwd=project)
     assert result.returncode == 0, result.stderr
-    assert (out.parent / "assets" / "servo" / "meshes" / "housing.stl").is_file()
-    assert 'filename="assets/servo/meshes/housing.stl"' in out.read_text()
+    assert (out.parent / "assets" / "my_servo" / "meshes" / "housing.stl").is_file()
+    assert 'filename="assets/my_servo/meshes/housing.stl"' in out.read_text()
 
 
 def test_output_flag_takes_one_formation(tmp_path):

@@ -2,6 +2,7 @@
 
 import math
 import time
+from pathlib import Path
 
 import pytest
 
@@ -139,12 +140,10 @@ def test_big_files_are_refused(write_formation):
     ],
 )
 def test_unit_numbers_are_bounded(project, write_formation, old, new, expected):
-    unit = project / "units" / "servo" / "unit.yaml"
+    unit = _own_servo(project)
     assert old in unit.read_text()
     unit.write_text(unit.read_text().replace(old, new))
-    assert expected in _refused(
-        write_formation, SNAKE.replace("name: snake", "name: s\nunits_dir: ../units")
-    )
+    assert expected in _refused(write_formation, OWN_SNAKE)
 
 
 @pytest.mark.parametrize("name", ["../units/servo", "/etc", "..", "servo/.."])
@@ -153,10 +152,22 @@ def test_unit_types_are_folder_names(write_formation, name):
     assert "units[0].unit: a unit type is a folder name in" in _refused(write_formation, text)
 
 
+def _own_servo(project: Path) -> Path:
+    """The project's servo as a unit type of the user's own, ``my_servo``: its unit.yaml."""
+    (project / "units" / "servo").rename(project / "units" / "my_servo")
+    return project / "units" / "my_servo" / "unit.yaml"
+
+
+OWN_SNAKE = SNAKE.replace("name: snake", "name: s\nunits_dir: ../units").replace(
+    "unit: servo", "unit: my_servo"
+)
+
+
 def test_link_templates_stay_in_the_unit_folder(project, write_formation):
-    unit = project / "units" / "servo" / "unit.yaml"
+    unit = _own_servo(project)
     unit.write_text(
         unit.read_text().replace("link_template: link.urdf", "link_template: ../hub/link.urdf")
     )
-    text = SNAKE.replace("name: snake", "name: s\nunits_dir: ../units")
-    assert "link_template: must be a file in the unit's folder" in _refused(write_formation, text)
+    assert "link_template: must be a file in the unit's folder" in _refused(
+        write_formation, OWN_SNAKE
+    )

@@ -28,7 +28,8 @@ SNAKE = Path("assemblies/snake5.yaml")
 def meshed(project: Path) -> Path:
     """snake5 on the project's servo, which shows two meshes: one in its folder, one in a
     folder beside ``units/`` (which the loader allows, though the assembler does not yet)."""
-    folder = project / "units" / "servo"
+    folder = project / "units" / "meshed_servo"  # a unit type of the user's own
+    (project / "units" / "servo").rename(folder)
     (folder / "meshes").mkdir()
     (project / "meshes").mkdir()
     trimesh.creation.box(extents=(0.096, 0.05, 0.05)).export(folder / "meshes" / "housing.stl")
@@ -41,7 +42,8 @@ def meshed(project: Path) -> Path:
     )
     template.write_text(text)
     file = project / "assemblies" / "snake.yaml"
-    file.write_text(SNAKE.read_text() + "units_dir: ../units\n")
+    text = SNAKE.read_text().replace("unit: servo", "unit: meshed_servo")
+    file.write_text(text + "units_dir: ../units\n")
     return file
 
 
@@ -69,9 +71,9 @@ def test_the_copy_holds_every_file_and_loads_as_the_same_formation(meshed, tmp_p
     assert sorted(record.files) == [
         "meshes/horn.stl",
         "snake.yaml",
-        "units/servo/link.urdf",
-        "units/servo/meshes/housing.stl",
-        "units/servo/unit.yaml",
+        "units/meshed_servo/link.urdf",
+        "units/meshed_servo/meshes/housing.stl",
+        "units/meshed_servo/unit.yaml",
     ]
     assert record.source_file == str(meshed.resolve())
     original, copy = load_formation(meshed), _load_quietly(run)
@@ -105,7 +107,7 @@ def test_the_hash_is_the_contents_wherever_the_folder_is(meshed, tmp_path):
 def test_an_edited_original_warns_once_and_the_copy_is_used(meshed, tmp_path):
     run = tmp_path / "run"
     _copy(meshed, run)
-    unit = meshed.parent.parent / "units" / "servo" / "unit.yaml"
+    unit = meshed.parent.parent / "units" / "meshed_servo" / "unit.yaml"
     unit.write_text(unit.read_text().replace("mass_kg: 0.15", "mass_kg: 0.5"))
     with pytest.warns(QdsegaWarning) as caught:
         formation = load_run_formation(run, TrainingConfig())

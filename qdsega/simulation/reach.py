@@ -1,0 +1,134 @@
+"""Can every joint reach its levels? A kinematic self-collision check of an assembled body.
+
+A body whose units hit each other on the way to a level fails every command that asks for it
+(the lower agent's "joint ... missed its level"), so it learns nothing and no one says why.
+This finds such levels before training, in PyBullet with the same collision shapes and the
+same self-collision rules as the simulation (parent-child pairs never collide).
+
+What is checked: the body in its rest posture (:meth:`Formation.rest_levels`), no ground, no
+physics; then for each actuated joint alone, the other joints at rest, the angles from its rest
+angle to each of its levels every ``step_deg`` and the level itself. A level is blocked when, at
+one of those angles, a unit that the joint moves overlaps a unit it does not move by more than
+``depth_m``. So a level that is only reachable by passing through the hub is blocked too. Not
+checked: two joints moving together (neighbouring legs swinging toward each other), the ground.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from qdsega.assembly import AssembledRobot
+from qdsega.simulation.bullet import BulletSimulation
+from qdsega.simulation.settings import PhysicsSettings
+
+DEPTH_M = 0.003
+"""Overlap (m) that counts as a hit: units of a shipped body touch at their faces by design
+(distance about 0), a leg connector turned into the hub overlaps by centimetres."""
+
+STEP_DEG = 5.0
+"""Largest angle (deg) between checked angles on the way to a level: 5 deg moves a point
+0.2 m from the joint by 17 mm, less than any shipped unit is thick."""
+
+
+@dataclass(frozen=True)
+class Blocked:
+    """A level a joint cannot reach without the body hitting itself.
+
+    Attributes:
+        joint: URDF name of the joint.
+        level: index of the level in the joint's levels.
+        level_deg: the level (deg).
+        at_deg: the first angle on the way from rest where the body hits itself (deg).
+        unit: a unit the joint moves.
+        other: the unit it hits, which the joint does not move.
+        depth_m: how far they overlap (m).
+    """
+
+    joint: str
+    level: int
+    level_deg: float
+    at_deg: float
+    unit: str
+    other: str
+    depth_m: float
+
+    def __str__(self) -> str:
+        return (
+            f"joint {self.joint} cannot reach level {self.level} ({self.level_deg:g} deg): "
+            f"unit {self.unit} hits unit {self.other} at {self.at_deg:.0f} deg"
+        )
+
+
+def unreachable_levels(
+    robot: AssembledRobot,
+    settings: PhysicsSettings | None = None,
+    *,
+    depth_m: float = DEPTH_M,
+    step_deg: float = STEP_DEG,
+) -> list[Blocked]:
+    """Every level of every actuated joint that the body cannot reach without hitting itself,
+    in joint then level order (see the module's docstring for what is checked); [] when all
+    are reachable, or when ``settings`` turn self-collision off."""
+    formation = robot.formation
+    joints = formation.joints
+    if not joints:
+        return []
+    rest = formation.posture_rad(formation.rest_levels())
+    step_rad = math.radians(step_deg)
+    children: dict[str, list[str]] = {}
+    for unit in formation.units:
+        if unit.parent is not None:
+            children.setdefault(unit.parent, []).append(unit.name)
+    blocked = []
+    with BulletSimulation(robot=robot, settings=settings) as sim:
+        sim.place_joints(sim.joint_ids, rest)
+        for joint_id, joint, rest_rad in zip(sim.joint_ids, joints, rest, strict=True):
+            moved = _subtree(joint.unit, children)
+            seen: dict[float, tuple[float, str, str] | None] = {}
+            for level, level_rad in enumerate(joint.levels_rad):
+                for angle in _path(rest_rad, level_rad, step_rad):
+                    if angle not in seen:
+                        sim.place_joints([joint_id], [angle])
+                        seen[angle] = _deepest_overlap(sim, moved, depth_m)
+                    overlap = seen[angle]
+                    if overlap is not None:
+                        depth, unit, other = overlap
+                        level_deg, at_deg = math.degrees(level_rad), math.degrees(angle)
+                        blocked.append(
+                            Blocked(joint.name, level, level_deg, at_deg, unit, other, depth)
+                        )
+                        break
+            sim.place_joints([joint_id], [rest_rad])
+    return blocked
+
+
+def _deepest_overlap(
+    sim: BulletSimulation, moved: set[str], depth_m: float
+) -> tuple[float, str, str] | None:
+    """(depth (m), moved unit, unmoved unit) of the deepest overlap deeper than ``depth_m``
+    between a unit in ``moved`` and one outside it, or None."""
+    overlaps = [
+        (-distance, a, b) if a in moved else (-distance, b, a)
+        for a, b, distance in sim.self_contacts()
+        if -distance > depth_m and (a in moved) != (b in moved)
+    ]
+    return max(overlaps, default=None)
+
+
+def _subtree(unit: str, children: dict[str, list[str]]) -> set[str]:
+    """``unit`` and every unit attached below it."""
+    found, stack = set(), [unit]
+    while stack:
+        name = stack.pop()
+        found.add(name)
+        stack.extend(children.get(name, ()))
+    return found
+
+
+def _path(start: float, end: float, step: float) -> list[float]:
+    """Angles from ``start`` toward ``end`` every ``step``, then ``end`` (rad); on a grid from
+    ``start``, so the levels on one side share their angles."""
+    direction = 1.0 if end >= start else -1.0
+    count = math.ceil(abs(end - start) / step - 1e-9)
+    return [start + direction * step * k for k in range(count)] + [end]
