@@ -21,7 +21,7 @@ from qdsega.bench.arena import Arena, MSMArena
 from qdsega.description import Formation, load_formation, resolve_formation
 from qdsega.msm import LegLayout, MinimalSimulationModel, msm_optimum
 from qdsega.task import Task
-from qdsega.training.config import TrainingConfig, default_preset, resolve_config
+from qdsega.training.config import TrainingConfig, resolve_config
 
 LEARNING_SIM = {"msm": "msm", "pybullet": "memo"}
 """A task's world -> the table world its learners learn in (``qdsega train --sim``, and
@@ -88,8 +88,8 @@ class BenchTask:
             learns["trials"] = self.trials
         agent = {"genetic": genes, "learning": learns}
         return resolve_config(
-            preset=default_preset(self.load(), sim),
             overrides={"sim": sim, "seed": seed, "workers": 1, "agent": agent},
+            formation=self.load(),
         )
 
     def rules(self) -> Task:

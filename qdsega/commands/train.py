@@ -7,9 +7,9 @@ from functools import partial
 from pathlib import Path
 
 from qdsega.agent.config import PRESETS
-from qdsega.description import resolve_formation
+from qdsega.description import load_formation, resolve_formation
 from qdsega.errors import ConfigError
-from qdsega.training.config import DEFAULT_PRESET, SIMULATORS, TrainingConfig, resolve_config
+from qdsega.training.config import SIMULATORS, TrainingConfig, resolve_config
 from qdsega.training.progress import ProgressDisplay
 from qdsega.training.run import TrainingInterrupted, budget_overrides, resume, train
 
@@ -51,7 +51,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     )
     parser.add_argument(
         "--preset",
-        help=f"one of {', '.join(PRESETS)}; default: the --config file's, else {DEFAULT_PRESET}",
+        help=f"one of {', '.join(PRESETS)}; default: the --config file's, else the body's "
+        "(paper-legged in the MSM; else memo-legged for legs, paper-snake without)",
     )
     parser.add_argument(
         "--config",
@@ -148,14 +149,18 @@ def run(args: argparse.Namespace) -> int:
 
 
 def run_config(args: argparse.Namespace) -> TrainingConfig:
-    """The configuration of a new run: the preset, then the ``--config`` file, then the flags
-    that were given.
+    """The configuration of a new run: the preset (named, else the body's), then the
+    ``--config`` file, then the flags that were given.
 
     Raises:
         ConfigError: unknown preset, bad configuration file or value.
+        FormationError: a formation that does not load.
     """
     overrides = budget_overrides(generations=args.generations, trials=args.trials, seed=args.seed)
     for key in ("sim", "workers", "ray", "light_bearing_deg"):
         if getattr(args, key) is not None:
             overrides[key] = getattr(args, key)
-    return resolve_config(preset=args.preset, file=args.config, overrides=overrides)
+    formation = load_formation(resolve_formation(args.formation))
+    return resolve_config(
+        preset=args.preset, file=args.config, overrides=overrides, formation=formation
+    )

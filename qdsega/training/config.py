@@ -41,7 +41,8 @@ from qdsega.yaml_reader import KeyPath, YamlDocument, format_key_path, load_yaml
 SIMULATORS = ("msm", "memo", "pybullet")
 """Worlds ``qdsega train`` can learn in (:mod:`qdsega.training.sims`)."""
 DEFAULT_PRESET = "paper-legged"
-"""The preset when neither ``--preset`` nor the configuration file names one."""
+"""The preset of a configuration that names none and knows no body (see
+:func:`default_preset` for the rule a run applies)."""
 
 
 @dataclass(frozen=True)
@@ -134,8 +135,9 @@ class TrainingConfig:
 
 
 def default_preset(formation: Formation, sim: str) -> str:
-    """The README's preset for ``formation`` in world ``sim``: ``paper-legged`` in the MSM,
-    else ``memo-legged`` for a legged body and ``paper-snake`` for a legless one."""
+    """The preset for ``formation`` in simulator ``sim`` when none is named (train, sweep and
+    bench alike): ``paper-legged`` in the MSM, else ``memo-legged`` for a legged body and
+    ``paper-snake`` for a legless one."""
     if sim == "msm":
         return "paper-legged"
     return "memo-legged" if formation.legs else "paper-snake"
@@ -146,11 +148,13 @@ def resolve_config(
     preset: str | None = None,
     file: Path | None = None,
     overrides: dict[str, Any] | None = None,
+    formation: Formation | None = None,
 ) -> TrainingConfig:
     """A preset, updated by the YAML ``file``, then by ``overrides`` (same nesting).
 
     The preset is ``preset``, else the one ``overrides`` or else ``file`` names (key
-    ``preset``), else :data:`DEFAULT_PRESET`.
+    ``preset``), else :func:`default_preset` for ``formation`` in the simulator the layers
+    name, else :data:`DEFAULT_PRESET`.
 
     Raises:
         ConfigError: unknown preset, unreadable file, unknown key or bad value (with the file's
@@ -163,6 +167,12 @@ def resolve_config(
     for layer, source in reversed(layers):
         if preset is None and "preset" in layer:
             preset = _convert(layer["preset"], str, ("preset",), source)
+    if preset is None and formation is not None:
+        sim = TrainingConfig.sim
+        for layer, source in layers:
+            if "sim" in layer:
+                sim = _convert(layer["sim"], str, ("sim",), source)
+        preset = default_preset(formation, sim)
     preset = preset or DEFAULT_PRESET
     if preset not in PRESETS:
         raise ConfigError(f"unknown preset {preset!r} (known: {', '.join(PRESETS)})")

@@ -40,6 +40,20 @@ def test_without_file_or_flags_the_defaults():
     )
 
 
+@pytest.mark.parametrize(
+    ("formation", "sim", "preset"),
+    [
+        ("snake5", "memo", "paper-snake"),
+        ("quadruped", "memo", "memo-legged"),
+        ("quadruped", "msm", "paper-legged"),
+        ("snake5", "pybullet", "paper-snake"),
+    ],
+)
+def test_without_a_preset_the_body_and_the_simulator_choose_it(formation, sim, preset):
+    args = build_parser().parse_args(["train", formation, "--sim", sim])
+    assert run_config(args).preset == preset
+
+
 def test_the_file_sets_every_key_a_flag_sets(tmp_path):
     config = _config(tmp_path, EVERY_KEY)
     assert (config.preset, config.sim, config.seed, config.workers) == ("paper-snake", "memo", 3, 1)
