@@ -6,7 +6,7 @@ Usage: .venv/bin/python tools/reference_search.py FORMATION [--preset NAME] [--b
 The rules are those ``qdsega train --preset NAME`` uses (trial length, lower agent, physics;
 every shipped preset has the same ones); the result is cached (``$QDSEGA_CACHE/references``,
 default ``~/.cache/qdsega/references``), so a second call with the same arguments prints the
-stored search at once. ``--ship`` also copies it into ``qdsega/references/``, where
+stored search at once. ``--ship`` also copies it into ``qdsega/baselines/references/``, where
 ``qdsega evaluate`` finds it on every machine with the same PyBullet version.
 """
 
@@ -29,7 +29,9 @@ def main() -> None:
     parser.add_argument("--budget-trials", type=int, default=DEFAULT_BUDGET_TRIALS)
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--workers", type=int, default=2)
-    parser.add_argument("--ship", action="store_true", help="copy it into qdsega/references/")
+    parser.add_argument(
+        "--ship", action="store_true", help="copy it into qdsega/baselines/references/"
+    )
     args = parser.parse_args()
     try:
         config = resolve_config(preset=args.preset)
@@ -43,7 +45,7 @@ def main() -> None:
             seed=args.seed,
             workers=args.workers,
         )
-    except ValueError as exc:  # FormationError included
+    except ValueError as exc:  # QdsegaError (FormationError, ConfigError) included
         parser.error(str(exc))
     gait = result.params
     print(

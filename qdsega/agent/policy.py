@@ -168,6 +168,7 @@ class Rollout:
             after the end repeating the last pose, shape (steps + 1, 3).
         failed: whether the trial ended because the lower agent failed.
         distance_m: distance toward the light covered (m).
+        failure: why it failed, where the world said (exact physics does), else None.
     """
 
     actions: np.ndarray
@@ -175,6 +176,7 @@ class Rollout:
     poses: np.ndarray
     failed: bool
     distance_m: float
+    failure: str | None = None
 
     def reached_postures(self, start: np.ndarray) -> np.ndarray:
         """The postures the robot was in, the start posture first, shape (k' + 1, J): a failed
@@ -201,17 +203,17 @@ def rollout(
     poses[0] = world.pose()
     if record is not None:
         record()
-    interior, failed = 0, False
+    interior, failed, failure = 0, False, None
     for step in range(steps):
         if not failed:
             a = policy.act(interior, exterior)
             taken[step] = a
             commanded.append(policy.actions[a])
             result = world.command(policy.actions[a])
-            failed = result.failed
+            failed, failure = result.failed, result.failure
             interior, exterior = int(policy.next_interior[a]), result.exterior
             if record is not None:
                 record()
         poses[step + 1] = world.pose()
     postures = np.array(commanded, dtype=np.int64).reshape(-1, policy.actions.shape[1])
-    return Rollout(taken, postures, poses, failed, world.distance_covered())
+    return Rollout(taken, postures, poses, failed, world.distance_covered(), failure)

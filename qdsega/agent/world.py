@@ -182,11 +182,13 @@ class StepResult:
         reward: eq. (17) reward of the step, or the penalty if the lower agent failed (-).
         exterior: exterior state index (the bin of the angle to the light).
         failed: the lower agent could not reach the posture; the trial is over.
+        failure: why, where the world can tell (exact physics does), else None.
     """
 
     reward: float
     exterior: int
     failed: bool
+    failure: str | None = None
 
 
 @runtime_checkable

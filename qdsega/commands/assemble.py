@@ -1,4 +1,7 @@
-"""``qdsega assemble``: formation files -> self-contained URDF files, with a summary table."""
+"""``qdsega assemble``: formation files -> self-contained URDF files, with a summary table.
+
+A body with a joint that cannot reach one of its levels without hitting itself is refused
+(:mod:`qdsega.simulation.reach`), before it trains for nothing."""
 
 from __future__ import annotations
 
@@ -6,7 +9,7 @@ import argparse
 import time
 from pathlib import Path
 
-from qdsega.errors import ConfigError
+from qdsega.errors import ConfigError, FormationError
 
 NAME = "assemble"
 HELP = "assemble formation YAML files into URDF files"
@@ -33,9 +36,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    # Imported here: the assembler loads trimesh (about 1 s), which the other commands need not.
+    # Imported here: the assembler loads trimesh (about 1 s) and the reach check PyBullet,
+    # which the other commands need not.
     from qdsega.assembly import assemble, write_assembly
     from qdsega.description import load_formation, resolve_formation
+    from qdsega.simulation.reach import unreachable_levels
 
     if args.output is not None and len(args.formations) > 1:
         raise ConfigError("-o/--output takes one formation; use --out-dir for several")
@@ -44,6 +49,12 @@ def run(args: argparse.Namespace) -> int:
         start = time.perf_counter()
         formation = load_formation(resolve_formation(file))
         robot = assemble(formation)
+        blocked = unreachable_levels(robot)
+        if blocked:
+            unit = next(u for u in formation.units if u.joint_name == blocked[0].joint)
+            others = len(blocked) - 1
+            more = f" ({others} more level{'s' * (others > 1)} blocked)" if others else ""
+            raise FormationError(f"{blocked[0]}{more}", file=formation.file, line=unit.line)
         elapsed_ms = 1000.0 * (time.perf_counter() - start)
         out = args.output or (args.out_dir or Path.cwd()) / f"{formation.name}.urdf"
         write_assembly(robot, out)

@@ -19,8 +19,6 @@ class EnvWorld:
 
     def __init__(self, *, env: LocomotionEnv) -> None:
         self.env = env
-        self.failure: str | None = None
-        """Why the lower agent failed the last command, or None."""
         self.commands = 0
         """Postures commanded so far (upper-agent steps simulated)."""
 
@@ -33,14 +31,12 @@ class EnvWorld:
 
     def start_trial(self) -> int:
         observation, _ = self.env.reset(seed=0)
-        self.failure = None
         return int(observation[-1])
 
     def command(self, posture: np.ndarray) -> StepResult:
         observation, reward, terminated, _, info = self.env.step(posture)
         self.commands += 1
-        self.failure = info["failure"]
-        return StepResult(reward=reward, exterior=int(observation[-1]), failed=terminated)
+        return StepResult(reward, int(observation[-1]), terminated, info["failure"])
 
     def distance_covered(self) -> float:
         return self.env.distance_covered()

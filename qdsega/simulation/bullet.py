@@ -225,7 +225,9 @@ class BulletSimulation:
         """Free a snapshot taken with save_state."""
         self.client.removeState(state_id)
 
-    def place_joints(self, joint_ids: Sequence[int], angles_rad: Sequence[float]) -> None:
+    def place_joints(
+        self, joint_ids: Sequence[int] | np.ndarray, angles_rad: Sequence[float] | np.ndarray
+    ) -> None:
         """Set the joints with PyBullet ids ``joint_ids`` (see :attr:`joint_ids`) to these
         angles (rad) at once, without physics: to look at a posture, not to move into it."""
         if len(joint_ids):

@@ -2,15 +2,20 @@
 
 A body whose units hit each other on the way to a level fails every command that asks for it
 (the lower agent's "joint ... missed its level"), so it learns nothing and no one says why.
-This finds such levels before training, in PyBullet with the same collision shapes and the
-same self-collision rules as the simulation (parent-child pairs never collide).
+This finds such levels before training, in PyBullet with the simulation's collision shapes
+and self-collision rules (parent-child pairs never collide).
 
-What is checked: the body in its rest posture (:meth:`Formation.rest_levels`), no ground, no
-physics; then for each actuated joint alone, the other joints at rest, the angles from its rest
-angle to each of its levels every ``step_deg`` and the level itself. A level is blocked when, at
-one of those angles, a unit that the joint moves overlaps a unit it does not move by more than
-``depth_m``. So a level that is only reachable by passing through the hub is blocked too. Not
-checked: two joints moving together (neighbouring legs swinging toward each other), the ground.
+What is checked, with no ground and no physics: for each actuated joint alone, the other joints
+at their rest levels (:meth:`Formation.rest_levels`), the angles from its rest angle to each of
+its levels every ``step_deg``, the level itself included. A level is blocked when, at one of
+those angles, a unit that the joint moves overlaps a unit that it does not move by more than
+``depth_m``: so a level reached only by passing through the hub is blocked too, and a body that
+overlaps already at rest is blocked at every level of each joint between the two units. Not
+checked: joints moving together (neighbouring legs swinging toward each other), the ground, an
+overlap at rest between units joined by fixed joints only.
+
+Cost: about 0.1 ms a checked angle; 20 to 40 ms for a shipped formation, 0.3 s for a snake of
+128 units with 9 levels a joint, and at most 360 / ``step_deg`` + 64 angles a joint.
 """
 
 from __future__ import annotations
@@ -23,8 +28,9 @@ from qdsega.simulation.bullet import BulletSimulation
 from qdsega.simulation.settings import PhysicsSettings
 
 DEPTH_M = 0.003
-"""Overlap (m) that counts as a hit: units of a shipped body touch at their faces by design
-(distance about 0), a leg connector turned into the hub overlaps by centimetres."""
+"""Overlap (m) that counts as a hit. A graze costs a joint 0.1 m from it under 2 deg, within
+the lower agent's 4 deg tolerance; a leg connector turned into the hub overlaps by centimetres
+(the shipped bodies overlap nowhere)."""
 
 STEP_DEG = 5.0
 """Largest angle (deg) between checked angles on the way to a level: 5 deg moves a point
@@ -54,9 +60,11 @@ class Blocked:
     depth_m: float
 
     def __str__(self) -> str:
+        level_deg, at_deg = round(self.level_deg, 1) + 0.0, round(self.at_deg, 1) + 0.0
+        where = "" if at_deg == level_deg else f" at {at_deg:g} deg"
         return (
-            f"joint {self.joint} cannot reach level {self.level} ({self.level_deg:g} deg): "
-            f"unit {self.unit} hits unit {self.other} at {self.at_deg:.0f} deg"
+            f"joint {self.joint} cannot reach level {self.level} ({level_deg:g} deg): "
+            f"unit {self.unit} hits unit {self.other}{where}"
         )
 
 
@@ -93,10 +101,10 @@ def unreachable_levels(
                         seen[angle] = _deepest_overlap(sim, moved, depth_m)
                     overlap = seen[angle]
                     if overlap is not None:
-                        depth, unit, other = overlap
+                        depth, mover, other = overlap
                         level_deg, at_deg = math.degrees(level_rad), math.degrees(angle)
                         blocked.append(
-                            Blocked(joint.name, level, level_deg, at_deg, unit, other, depth)
+                            Blocked(joint.name, level, level_deg, at_deg, mover, other, depth)
                         )
                         break
             sim.place_joints([joint_id], [rest_rad])

@@ -9,14 +9,16 @@ from typing import TextIO
 from tqdm import tqdm
 
 from qdsega.training.run import GenerationReport
+from qdsega.training.sims import Failures
 
 
 class ProgressDisplay:
     """A :class:`qdsega.training.run.Progress` that writes to ``stream``.
 
     On a terminal it draws a bar (generation, the greedy policy's distance with exact physics
-    and as the learner's world predicted it, Q-table size, steps/s, ETA); otherwise (a log
-    file, a pipe, CI) it prints one line per generation with the same facts.
+    and as the learner's world predicted it, Q-table size, steps/s, the share of the verified
+    trials' commands that failed and how, ETA); otherwise (a log file, a pipe, CI) it prints
+    one line per generation with the same facts.
     """
 
     def __init__(self, stream: TextIO = sys.stderr) -> None:
@@ -37,12 +39,14 @@ class ProgressDisplay:
                 nrows=size.lines,
             )
 
-    def generation(self, report: GenerationReport) -> None:
+    def generation(self, report: GenerationReport, failed: Failures) -> None:
         facts = (
             f"exact {report.greedy_exact_m:.3f} m (predicted {report.greedy_distance_m:.3f} m), "
             f"Q-table {report.actions} actions "
             f"({report.q_entries} entries), {report.steps_per_s:,.0f} steps/s"
         )
+        if failed.kinds:
+            facts += f", {failed.share:.0%} of commands failed ({failed.most_common})"
         if self._bar is not None:
             self._bar.set_postfix_str(facts, refresh=False)
             self._bar.update(1)

@@ -12,6 +12,7 @@ from __future__ import annotations
 import math
 import shutil
 import time
+import warnings
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Protocol
@@ -23,7 +24,7 @@ from qdsega.agent.learner import QDSEGA, Generation, LearnerState
 from qdsega.agent.policy import Rollout
 from qdsega.atomic import replaced_atomically
 from qdsega.description import Formation, load_formation
-from qdsega.errors import ConfigError, RunFolderError
+from qdsega.errors import ConfigError, QdsegaWarning, RunFolderError
 from qdsega.training.checkpoint import Checkpoint, load_checkpoint, save_checkpoint
 from qdsega.training.config import TrainingConfig, read_run_config
 from qdsega.training.formation_copy import (
@@ -35,8 +36,11 @@ from qdsega.training.interrupt import InterruptWatch
 from qdsega.training.reconfiguration import JointMapping, warm_record, warm_state
 from qdsega.training.run_folder import METRIC_COLUMNS, RunFolder
 from qdsega.training.run_lock import run_lock
-from qdsega.training.sims import TrainingSim, build_sim, check_sim, leg_states
+from qdsega.training.sims import Failures, TrainingSim, build_sim, check_sim, leg_states
 
+HOPELESS_SHARE = 0.9
+"""A generation whose verified trials failed at least this often warns once: the body may
+not be able to move at all."""
 _SIM_STEPS = METRIC_COLUMNS.index("sim_steps")
 _GREEDY_EXACT = METRIC_COLUMNS.index("greedy_exact_m")
 
@@ -85,7 +89,9 @@ class Progress(Protocol):
 
     def start(self, *, completed: int, generations: int) -> None: ...
 
-    def generation(self, report: GenerationReport) -> None: ...
+    def generation(self, report: GenerationReport, failed: Failures) -> None:
+        """After each generation: what it learnt, and how its verified trials failed."""
+        ...
 
 
 def train(
@@ -290,9 +296,11 @@ def _run(
         simulated = int(checkpoint.metrics[-1, _SIM_STEPS]) if len(checkpoint.metrics) else 0
         if progress is not None:
             progress.start(completed=resumed_at, generations=config.agent.genetic.generations)
+        warned = False
         with InterruptWatch() as watch:
             try:
                 while learner.completed < config.agent.genetic.generations:
+                    before = sim.failures
                     path = learner.untried_path  # ask: a handed-on path no trial has verified
                     handed_on = None if path is None else sim.verify(path)
                     if handed_on is not None:
@@ -315,11 +323,15 @@ def _run(
                     sim.save(out)
                     save_checkpoint(out, checkpoint)
                     folder.write_metrics(checkpoint.metrics)
+                    failed = sim.failures.since(before)
+                    if failed.trial_share >= HOPELESS_SHARE and not warned:
+                        warned = True
+                        warnings.warn(_hopeless(failed, generation.index), QdsegaWarning, 2)
                     if progress is not None:
                         report = _report(
                             checkpoint, generation, exact, config, session_start, resumed_at
                         )
-                        progress.generation(report)
+                        progress.generation(report, failed)
                 return _finish(folder, formation, config, sim, checkpoint)
             except BaseException as exc:
                 if not (watch.interrupted or isinstance(exc, KeyboardInterrupt)):
@@ -469,6 +481,8 @@ def _finish(
         "final_heading_deg": math.degrees(checkpoint.exact_poses[checkpoint.result - 1, -1, 2]),
         "light_xy": list(light),
         "wall_s": checkpoint.elapsed_s,
+        "failed_commands_share": sim.failures.share,
+        "most_common_failure": sim.failures.most_common,
         "warm_start": folder.read_warm_start(),
     }
     folder.write_json(folder.SUMMARY, summary)
@@ -484,6 +498,15 @@ def _record_handed_on(folder: RunFolder, trial: Rollout) -> None:
     record["handed_on_m"] = trial.distance_m
     record["handed_on_steps"] = len(trial.postures)
     folder.write_json(folder.WARM_START, record)
+
+
+def _hopeless(failed: Failures, generation: int) -> str:
+    """The one-line warning for a generation whose verified trials nearly all failed."""
+    return (
+        f"{failed.trial_share:.0%} of generation {generation}'s verified trials failed, most "
+        f"often: {failed.most_common}; if the body cannot move, `qdsega assemble` checks "
+        "whether its joints reach their levels"
+    )
 
 
 def _relative_error(predicted: float, exact: float) -> float | None:

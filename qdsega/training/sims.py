@@ -14,6 +14,7 @@
 
 from __future__ import annotations
 
+import re
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING
@@ -38,9 +39,55 @@ if TYPE_CHECKING:
     from qdsega.locomotion.exact_trials import ExactTrials
     from qdsega.simulation.camera import CameraConfig
 
+_NUMBERS = re.compile(r" by -?[\d.]+ deg| \(tilt -?[\d.]+ deg\)")
+"""The measured part of a failure message, left out where failures are counted by kind."""
 _SEARCH_STREAM = 1_000_000
 """Local-search trials of generation ``g`` draw from a generator seeded ``(seed, g, this)``,
 a stream no exploring trial uses."""
+
+
+@dataclass(frozen=True)
+class Failures:
+    """How exact trials failed: commands sent, trials run, and failed trials by kind (the
+    lower agent's message without its measured numbers)."""
+
+    commands: int = 0
+    trials: int = 0
+    kinds: dict[str, int] = field(default_factory=dict)
+
+    @property
+    def share(self) -> float:
+        """Failed commands over commands sent (a failed trial ends at its failed command)."""
+        return sum(self.kinds.values()) / self.commands if self.commands else 0.0
+
+    @property
+    def trial_share(self) -> float:
+        """Failed trials over trials."""
+        return sum(self.kinds.values()) / self.trials if self.trials else 0.0
+
+    @property
+    def most_common(self) -> str | None:
+        """The commonest kind of failure (the first of equals), or None."""
+        return max(self.kinds, key=self.kinds.__getitem__) if self.kinds else None
+
+    def since(self, earlier: Failures) -> Failures:
+        """What happened after ``earlier``."""
+        kinds = {k: n - earlier.kinds.get(k, 0) for k, n in self.kinds.items()}
+        return Failures(
+            self.commands - earlier.commands,
+            self.trials - earlier.trials,
+            {k: n for k, n in kinds.items() if n},
+        )
+
+    def add(self, trials: list[Rollout]) -> Failures:
+        """These failures and those of ``trials``."""
+        kinds = dict(self.kinds)
+        for trial in trials:
+            if trial.failed:
+                kind = _NUMBERS.sub("", trial.failure or "failed")
+                kinds[kind] = kinds.get(kind, 0) + 1
+        commands = self.commands + sum(len(trial.postures) for trial in trials)
+        return Failures(commands, self.trials + len(trials), kinds)
 
 
 @dataclass
@@ -84,6 +131,9 @@ class TrainingSim:
     seed: int = 0
     _best: tuple[np.ndarray, float] | None = field(default=None, init=False, repr=False)
     """The commands (k, J) and distance (m) of the best local-search parent so far."""
+    failures: Failures = field(default_factory=Failures, init=False)
+    """How the run's verified trials (exact, or the learner's own where its world is exact)
+    failed so far."""
 
     def optimistic_table(
         self, generation: Generation
@@ -108,6 +158,7 @@ class TrainingSim:
         trials of the generation's policy at the Boltzmann temperature and of ``hopeful`` (the
         policy learnt on :meth:`optimistic_table`); the greedy replay is observed last."""
         if self.exact is None:
+            self.failures = self.failures.add([generation.greedy])
             return [generation.greedy]
         policies: list[Policy] = [generation.policy]
         if self.grounded is not None:  # exploring trials first: the greedy one is seen last
@@ -128,6 +179,7 @@ class TrainingSim:
         if self.grounded is not None:
             for trial in [*outcomes[:-1], *searched, greedy]:
                 self.grounded.observe(trial, generation.space.postures[0])
+        self.failures = self.failures.add([*outcomes, *searched])
         return [greedy, *searched]
 
     def verify(self, path: np.ndarray) -> Rollout | None:
@@ -140,6 +192,7 @@ class TrainingSim:
         if self.grounded is not None:
             self.grounded.observe(trial, self.provider.start_posture())
         self._keep_best(trial)
+        self.failures = self.failures.add([trial])
         return trial
 
     def _search(self, index: int, levels: np.ndarray, greedy: Rollout) -> list[Rollout]:
@@ -176,12 +229,19 @@ class TrainingSim:
 
     def state(self) -> dict[str, np.ndarray]:
         """What the run's history put into the world (grounded observations; the local
-        search's parent: ``search_commands`` (k, J) and ``search_distance_m`` (1,)), as
-        arrays."""
+        search's parent: ``search_commands`` (k, J) and ``search_distance_m`` (1,); the
+        failures: ``failure_kinds``, ``failure_counts`` and ``failure_totals`` (commands,
+        trials)), as arrays."""
         state = {} if self.grounded is None else self.grounded.state()
         if self._best is not None:
             state["search_commands"] = self._best[0]
             state["search_distance_m"] = np.array([self._best[1]])
+        if self.failures.trials:
+            kinds = self.failures.kinds
+            state["failure_kinds"] = np.array(list(kinds), dtype=str)
+            state["failure_counts"] = np.array(list(kinds.values()), dtype=np.int64)
+            totals = [self.failures.commands, self.failures.trials]
+            state["failure_totals"] = np.array(totals, dtype=np.int64)
         return state
 
     def restore(self, state: dict[str, np.ndarray]) -> None:
@@ -192,6 +252,11 @@ class TrainingSim:
         if "search_commands" in state:
             commands = state["search_commands"].astype(np.int64)
             self._best = (commands, float(state["search_distance_m"][0]))
+        self.failures = Failures()
+        if "failure_totals" in state:
+            commands, trials = (int(n) for n in state["failure_totals"])
+            counts = zip(state["failure_kinds"], state["failure_counts"], strict=True)
+            self.failures = Failures(commands, trials, {str(k): int(n) for k, n in counts})
 
     def save(self, run: Path) -> None:
         """Keep what the world measured (memo mode) in the run folder."""

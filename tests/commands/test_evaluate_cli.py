@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 from helpers import run_cli
 
-TOOLS = Path(__file__).resolve().parents[2] / "tools"
+TOOLS = Path(__file__).resolve().parents[2] / "experiments" / "grid"
 TINY = """\
 workers: 1
 agent:

@@ -1,6 +1,5 @@
 import dataclasses
 import math
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -8,6 +7,7 @@ from gymnasium.utils.env_checker import check_env
 
 from qdsega.baselines.classic_gaits import leg_gait
 from qdsega.description import Friction, load_formation
+from qdsega.description.shipped import ASSEMBLIES_DIR
 from qdsega.locomotion.env import LocomotionEnv
 from qdsega.task import TaskConfig
 
@@ -100,11 +100,7 @@ def test_lifting_every_leg_fails_and_ends_the_trial():
 def test_a_posture_too_weak_joints_cannot_reach_fails(project):
     servo = project / "units" / "servo" / "unit.yaml"
     servo.write_text(servo.read_text().replace("effort_nm: 2.5", "effort_nm: 0.001"))
-    file = project.parent / "snake.yaml"
-    file.write_text(
-        Path("assemblies/snake5.yaml").read_text() + f"units_dir: {project / 'units'}\n"
-    )
-    weak = load_formation(file)
+    weak = load_formation(ASSEMBLIES_DIR / "snake5.yaml", units_dir=project / "units")
     env = LocomotionEnv(formation=weak)
     env.reset(seed=0)
     _, reward, terminated, _, info = env.step(np.array([0, 8, 0, 8]))

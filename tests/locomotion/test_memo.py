@@ -1,13 +1,12 @@
-import subprocess
-import sys
-from pathlib import Path
+import io
 
 import numpy as np
 import pytest
 
 from qdsega.description import load_formation
 from qdsega.locomotion.lower_agent import LowerAgentConfig
-from qdsega.locomotion.memo import MeasuredTransitions
+from qdsega.locomotion.memo import PROGRESS_DELAY_S, MeasuredTransitions
+from qdsega.progress import ProgressLine
 from qdsega.simulation.settings import PhysicsSettings
 
 
@@ -72,17 +71,6 @@ def test_failures_are_recorded_for_a_legged_body():
     assert list(table.failed[0]) == [False, True]
 
 
-def test_the_mirror_check_tool_measures_a_legged_body_and_refuses_a_snake():
-    tool = Path(__file__).resolve().parents[2] / "tools" / "memo_mirror.py"
-    run = [sys.executable, tool]
-    result = subprocess.run([*run, "quadruped", "--postures", "3"], capture_output=True, text=True)
-    assert result.returncode == 0, result.stderr
-    assert result.stdout.startswith("quadruped: 18 transitions measured")
-    assert "| dx (m) |" in result.stdout
-    refused = subprocess.run([*run, "snake5"], capture_output=True, text=True)
-    assert refused.returncode == 1 and "no left-right mirror" in refused.stderr
-
-
 def test_a_table_in_the_same_process_measures_with_its_own_physics(snake5):
     """One process, one formation object, two physics settings: each table measures with its
     own (the worker's simulation is rebuilt, not reused for the wrong settings)."""
@@ -98,17 +86,22 @@ def test_a_table_in_the_same_process_measures_with_its_own_physics(snake5):
     assert np.array_equal(tables[0], tables[2])
 
 
-def test_the_physics_curve_tool_prints_a_row_per_setting():
-    tool = Path(__file__).resolve().parents[2] / "tools" / "physics_curve.py"
-    run = [sys.executable, tool, "quadruped", "--postures", "2", "--settings", "240:50,120:10"]
-    result = subprocess.run(run, capture_output=True, text=True)
-    assert result.returncode == 0, result.stderr
-    rows = [line for line in result.stdout.splitlines() if line[2:3].isdigit()]
-    assert [row.split(" |")[0] for row in rows] == ["| 240 : 50", "| 120 : 10"]
-    assert rows[0].split("|")[3].strip() == "100.0%"  # the reference agrees with itself
-    bad = subprocess.run([*run[:2], "--settings", "fast"], capture_output=True, text=True)
-    assert bad.returncode == 1 and "not HZ:ITERATIONS" in bad.stderr
-    zero = subprocess.run([*run[:2], "--settings", "0:50"], capture_output=True, text=True)
-    assert zero.returncode == 1 and zero.stderr.strip().splitlines() == [
-        "--settings: '0:50' needs HZ > 0 and ITERATIONS >= 1"
-    ]
+def test_a_batch_shows_its_progress_only_through_the_factory_given(snake5, capsys):
+    postures = _postures(3)
+    quiet = MeasuredTransitions(formation=snake5, lower_agent=LowerAgentConfig(), workers=1)
+    quiet.transitions(postures, postures)
+    assert capsys.readouterr().err == ""  # no factory: silent
+    stream, made = io.StringIO(), []
+
+    def factory(label: str, total: int, *, delay_s: float = 0.0, initial: int = 0) -> ProgressLine:
+        made.append((label, total, delay_s))
+        return ProgressLine(label, total, stream=stream)  # no delay: every batch shows
+
+    shown = MeasuredTransitions(
+        formation=snake5, lower_agent=LowerAgentConfig(), workers=1, progress=factory
+    )
+    shown.transitions(postures, postures)
+    shown.transitions(postures, postures)  # nothing left to measure: no line
+    assert made == [("measuring transitions", 9, PROGRESS_DELAY_S)]
+    last = stream.getvalue().splitlines()[-1]
+    assert last.startswith("measuring transitions 9/9: memo table 9 transitions, elapsed ")

@@ -6,6 +6,7 @@ import io
 
 from qdsega.training.progress import ProgressDisplay
 from qdsega.training.run import GenerationReport
+from qdsega.training.sims import Failures
 
 
 class _Terminal(io.StringIO):
@@ -33,7 +34,7 @@ def test_a_terminal_gets_a_bar_that_starts_where_a_resumed_run_stands(monkeypatc
     stream = _Terminal()
     display = ProgressDisplay(stream)
     display.start(completed=1, generations=4)
-    display.generation(_report(2))
+    display.generation(_report(2), Failures())
     display.close()
     text = stream.getvalue()
     assert "generation 1/4" in text and "generation 2/4" in text and "\r" in text
@@ -44,9 +45,20 @@ def test_a_log_gets_lines_with_elapsed_time_and_eta():
     stream = io.StringIO()
     display = ProgressDisplay(stream)
     display.start(completed=1, generations=4)
-    display.generation(_report(2))
+    display.generation(_report(2), Failures())
     display.close()
     assert stream.getvalue() == (
         "generation 2/4: exact 0.400 m (predicted 0.500 m), Q-table 12 actions (480 entries), "
         "1,500 steps/s, elapsed 1:00, ETA 1:00\n"
+    )
+
+
+def test_failed_commands_are_counted_and_named():
+    stream = io.StringIO()
+    display = ProgressDisplay(stream)
+    display.start(completed=1, generations=4)
+    failed = Failures(commands=8, trials=5, kinds={"trunk touched the ground": 2})
+    display.generation(_report(2), failed)
+    assert "1,500 steps/s, 25% of commands failed (trunk touched the ground), elapsed" in (
+        stream.getvalue()
     )

@@ -10,7 +10,7 @@ import numpy as np
 
 from qdsega.agent.policy import Policy, Rollout, SequencePolicy
 from qdsega.task import Task, TaskConfig
-from qdsega.training.sims import TrainingSim
+from qdsega.training.sims import Failures, TrainingSim
 
 LEVELS = np.array([9, 9, 9])
 
@@ -73,7 +73,8 @@ def test_the_local_search_climbs_from_the_best_trial_and_resumes_to_the_same_dra
 def test_no_local_search_replays_the_greedy_policy_only():
     world = _world(local_search=0)
     (trials,) = _climb(world, range(1, 2))
-    assert len(trials) == 1 and world.exact.trials == 1 and world.state() == {}
+    assert len(trials) == 1 and world.exact.trials == 1
+    assert "search_commands" not in world.state()
 
 
 def test_a_handed_on_path_is_verified_and_becomes_the_search_parent():
@@ -92,3 +93,35 @@ def test_without_exact_physics_nothing_is_verified():
     world = _world(local_search=2)
     world.exact = None
     assert world.verify(np.array([[8, 0, 0]])) is None
+
+
+def _trial(commands: int, failure: str | None) -> Rollout:
+    postures = np.zeros((commands, 3), dtype=np.int64)
+    return Rollout(
+        np.zeros(4, dtype=np.int64), postures, np.zeros((5, 3)), failure is not None, 0.0, failure
+    )
+
+
+def test_failures_are_counted_by_kind_without_their_numbers():
+    failures = Failures().add(
+        [
+            _trial(1, "joint BL_swing_joint missed its level by 38.9 deg"),
+            _trial(1, "joint BL_swing_joint missed its level by 41.2 deg"),
+            _trial(4, None),
+            _trial(2, "body flipped (tilt 95 deg)"),
+        ]
+    )
+    assert failures.kinds == {"joint BL_swing_joint missed its level": 2, "body flipped": 1}
+    assert failures.most_common == "joint BL_swing_joint missed its level"
+    assert (failures.commands, failures.trials) == (8, 4)
+    assert failures.share == 3 / 8 and failures.trial_share == 3 / 4
+    later = failures.add([_trial(1, "body flipped (tilt 120 deg)")])
+    assert later.since(failures) == Failures(1, 1, {"body flipped": 1})
+
+
+def test_the_failures_survive_a_checkpoint():
+    world = _world(local_search=0)
+    world.failures = Failures(9, 3, {"trunk touched the ground": 2})
+    again = _world(local_search=0)
+    again.restore(world.state())
+    assert again.failures == world.failures

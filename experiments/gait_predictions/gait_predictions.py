@@ -1,7 +1,7 @@
 """How well posture tables predict periodic gaits of a formation, against exact physics.
 
-Usage: .venv/bin/python tools/gait_predictions.py [FORMATION] [--gaits 24] [--seed 0]
-                                                   [--cycles 5]
+Usage: .venv/bin/python experiments/gait_predictions/gait_predictions.py [FORMATION]
+           [--gaits 24] [--seed 0] [--cycles 5]
 
 For the formation's CMA-ES reference gait (shipped or cached, else searched first) and random
 gaits of 2 to 4 postures, each repeated for a trial under the ``paper-snake`` preset's rules,

@@ -1,8 +1,7 @@
 """What cheaper physics settings cost in accuracy: memo transitions measured at each setting.
 
-Usage: .venv/bin/python tools/physics_curve.py [FORMATION] [--postures 12] [--seed 0]
-                                              [--preset memo-legged]
-                                              [--settings 240:50,240:20,120:50,120:20]
+Usage: .venv/bin/python experiments/memo_speed/physics_curve.py [FORMATION] [--postures 12]
+           [--seed 0] [--preset memo-legged] [--settings 240:50,240:20,120:50,120:20]
 
 Draws ``--postures`` random sources and targets and measures every source -> target
 transition (the memo table's own measurement, one worker) at each setting ``HZ:ITERATIONS``

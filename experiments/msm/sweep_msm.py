@@ -1,12 +1,13 @@
 """Screen settings of the open choices on the MSM: greedy/optimum per seed, in-process.
 
-    taskset -c 1 .venv/bin/python tools/sweep_msm.py --seeds 0 1 --generations 60 \
-        --set agent.fitness.k_f=10 --set msm.v=0.25 [--show-gait]
+Usage: taskset -c 1 .venv/bin/python experiments/msm/sweep_msm.py [--formation FILE]
+           --seeds 0 1 --generations 60 --set agent.fitness.k_f=10 --set msm.v=0.25 [--show-gait]
 
 Each ``--set KEY=VALUE`` (VALUE parsed as YAML) overrides the paper-legged preset through
-:func:`qdsega.training.config.resolve_config`, like a YAML override file. Prints, per seed,
-the greedy distance over the exact optimum at the last generation, the best generation and the
-number of actions, then the count of seeds at >= 0.95.
+:func:`qdsega.training.config.resolve_config`, like a YAML override file. The learner runs on
+the MSM in-process, without a run folder. Prints, per seed, the greedy distance over the MSM's
+optimum at the last generation, the best generation, the number of actions, the final heading
+and ten marks of the history, then the count of seeds at >= 0.95.
 """
 
 from __future__ import annotations
@@ -23,11 +24,13 @@ from qdsega.agent.learner import QDSEGA
 from qdsega.description import load_formation
 from qdsega.description.shipped import ASSEMBLIES_DIR
 from qdsega.msm import LegLayout, MinimalSimulationModel, msm_optimum
+from qdsega.task import Task
 from qdsega.training.config import resolve_config
 from qdsega.training.run import budget_overrides
 
 
 def _nest(assignments: list[str]) -> dict[str, Any]:
+    """``["a.b=1"]`` -> ``{"a": {"b": 1}}`` (values parsed as YAML)."""
     tree: dict[str, Any] = {}
     for item in assignments:
         key, _, value = item.partition("=")
@@ -40,6 +43,7 @@ def _nest(assignments: list[str]) -> dict[str, Any]:
 
 
 def _merge(a: dict[str, Any], b: dict[str, Any]) -> dict[str, Any]:
+    """``a`` updated by ``b``, nested mappings merged."""
     out = dict(a)
     for key, value in b.items():
         out[key] = _merge(out[key], value) if isinstance(value, dict) and key in out else value
@@ -47,33 +51,35 @@ def _merge(a: dict[str, Any], b: dict[str, Any]) -> dict[str, Any]:
 
 
 def run_seed(formation_file: Path, overrides: dict[str, Any], show_gait: bool) -> dict[str, Any]:
+    """Learn one run on the MSM with the preset (paper-legged unless ``overrides`` names one)
+    updated by ``overrides``."""
     config = resolve_config(overrides=overrides)
     formation = config.with_light(load_formation(formation_file))
     layout = LegLayout.from_formation(formation)
-    world = MinimalSimulationModel(legs=layout, params=config.msm)
-    light = formation.light.position_m
-    optimum = msm_optimum(world, steps=config.agent.learning.trial_steps, light_xy=light)
+    model = MinimalSimulationModel(legs=layout, params=config.msm)
+    task = Task(config=config.task, light_xy=formation.light.position_m)
+    optimum = msm_optimum(model, steps=task.trial_steps, light_xy=tuple(task.light))
     learner = QDSEGA(
         config=config.agent,
         levels=np.array([len(j.levels_rad) for j in formation.joints]),
-        world=world,
-        light_xy=light,
+        world=model,
+        task=task,
         rng=np.random.default_rng(config.seed),
     )
     start = time.perf_counter()
     history = []
-    for generation in learner.run():
-        history.append(generation.greedy_distance / optimum.bound_m)
+    for last in learner.run():
+        history.append(last.greedy.distance_m / optimum.bound_m)
     result = {
         "ratio": history[-1],
         "best": max(history),
-        "actions": generation.space.n_actions,
-        "heading_deg": float(np.degrees(generation.greedy_poses[-1, 2])),
+        "actions": last.space.n_actions,
+        "heading_deg": float(np.degrees(last.greedy.poses[-1, 2])),
         "wall_s": time.perf_counter() - start,
         "history": history,
     }
     if show_gait:
-        result["gait"] = layout.states(generation.greedy_postures())
+        result["gait"] = layout.states(last.greedy.postures)
     return result
 
 

@@ -1,7 +1,7 @@
 """Benchmark: what scale-out costs and buys, on this machine.
 
-Usage: .venv/bin/python tools/benchmark_scale.py [--transitions 60] [--sweep-seeds 4]
-                                                 [--protocols] [--machines 8 64]
+Usage: .venv/bin/python experiments/scale_out/benchmark_scale.py [--transitions 60]
+           [--sweep-seeds 4] [--protocols] [--machines 8 64]
 
 Prints:
 - memo transitions measured per second by one worker, for snake5 and legged12 (random
@@ -33,13 +33,15 @@ from qdsega.description import load_formation, resolve_formation
 from qdsega.locomotion.lower_agent import LowerAgentConfig
 from qdsega.locomotion.memo import MeasuredTransitions
 from qdsega.sweep import read_grid, run_sweep
+from qdsega.training.config import resolve_config
+from qdsega.training.run import train
 
 PAPER_TRANSITIONS = 283_000
 """Distinct legged12 transitions the paper's legged protocol needs (measured once by counting a
 paper-legged run's table in the MSM's posture space; issue 11)."""
 MSM_PROTOCOL_S = 10.0
-"""The MSM protocol's wall time per seed on one core (``tools/benchmark_msm.py``: 9.7-9.8 s,
-2026-12-03), used in the projection unless ``--protocols`` measures it."""
+"""The MSM protocol's wall time per seed on one core (``experiments/msm/benchmark_msm.py``:
+9.7-9.8 s, 2026-12-03), used in the projection unless ``--protocols`` measures it."""
 SWEEP_GRID = """\
 formations: [snake5]
 seeds: {seeds}
@@ -52,17 +54,22 @@ reference_trials: 0
 
 
 def memo_rate(name: str, transitions: int) -> float:
-    """Transitions per second one worker measures for formation ``name``."""
+    """Transitions per second one worker measures for formation ``name``: 4 random start
+    postures, each to ``transitions // 4`` random targets."""
     formation = load_formation(resolve_formation(Path(name)))
     counts = np.array([len(j.levels_rad) for j in formation.joints])
     rng = np.random.default_rng(0)
     sources = 4
-    postures = rng.integers(0, counts, size=(sources + transitions // sources, len(counts)))
+    postures = rng.integers(0, counts, size=(1 + sources + transitions // sources, len(counts)))
     memo = MeasuredTransitions(formation=formation, lower_agent=LowerAgentConfig(), workers=1)
-    memo.transitions(postures[:1], postures[:1])  # builds the world: not part of the rate
-    start = time.perf_counter()
-    memo.transitions(postures[1 : 1 + sources], postures[1 + sources :])
-    return memo.measured / (time.perf_counter() - start)
+    try:
+        memo.transitions(postures[:1], postures[:1])  # builds the world: not part of the rate
+        before = memo.measured
+        start = time.perf_counter()
+        memo.transitions(postures[1 : 1 + sources], postures[1 + sources :])
+        return (memo.measured - before) / (time.perf_counter() - start)
+    finally:
+        memo.close()
 
 
 def sweep_times(seeds: int) -> tuple[float, float, bool]:
@@ -102,8 +109,6 @@ def _nothing() -> None:
 
 def protocol_times() -> tuple[float, float]:
     """Wall times (s) of the snake protocol and of the MSM protocol, one run each."""
-    from qdsega.training.config import resolve_config
-    from qdsega.training.run import train
 
     with tempfile.TemporaryDirectory() as scratch:
         walls = []
@@ -125,6 +130,8 @@ def main() -> int:
     parser.add_argument("--protocols", action="store_true")
     parser.add_argument("--machines", type=int, nargs="+", default=[8, 64])
     args = parser.parse_args()
+    if args.transitions < 4 or args.sweep_seeds < 1:
+        parser.error("--transitions must be at least 4 and --sweep-seeds at least 1")
     rates = {name: memo_rate(name, args.transitions) for name in ("snake5", "legged12")}
     for name, rate in rates.items():
         print(f"memo transitions per second, one worker, {name}: {rate:.1f}", flush=True)

@@ -1,15 +1,15 @@
 """Is PyBullet mirror-symmetric for a left-right symmetric legged body? A check.
 
-Usage: .venv/bin/python tools/memo_mirror.py [FORMATION] [--postures 10] [--seed 0]
-                                            [--preset memo-legged]
+Usage: .venv/bin/python experiments/memo_speed/memo_mirror.py [FORMATION] [--postures 10]
+           [--seed 0] [--preset memo-legged]
 
 A legged formation mirrored left to right is itself, with its k-th left leg in place of its
 k-th right leg (legs are declared front to back on each side, and every leg's levels mean the
 same on both sides: swing [forward, back], lift [down, up]). If physics were mirror-symmetric
 too, the transition of the mirrored postures would be the mirrored move (the same ``dx``,
 ``-dy``, ``-dtheta``, the same failure), and memo mode could measure one of each pair (it does
-not: a QDSEGA population holds hardly any posture's mirror image; README, "Reproducing the
-paper").
+not: a QDSEGA population holds hardly any posture's mirror image;
+``docs/notes/2026-12-02-memo-speed.md``).
 
 Draws ``--postures`` random sources and targets, measures every source -> target transition
 and every mirrored one in PyBullet (the memo table's own measurement), and prints how far
@@ -83,6 +83,9 @@ def main() -> int:
         a = getattr(plain, name).ravel()[both]
         b = sign * getattr(mirrored, name).ravel()[both]
         gap = np.abs(a - b)
+        if not gap.size:
+            print(f"| {name} ({unit}) | - | - | - | - |")
+            continue
         print(
             f"| {name} ({unit}) | {np.abs(a).mean():.4f} | {np.median(gap):.4f} | "
             f"{np.quantile(gap, 0.9):.4f} | {gap.max():.4f} |"

@@ -1,6 +1,6 @@
 """Could a legged run measure fewer memo transitions? Two checks on a finished run's table.
 
-Usage: .venv/bin/python tools/memo_shortcuts.py RUN [--seed 0]
+Usage: .venv/bin/python experiments/memo_speed/memo_shortcuts.py RUN [--seed 0]
 
 RUN is a memo-mode run folder of a legged body; its ``transitions.npz`` holds every transition
 the run measured in PyBullet. Nothing is simulated.
@@ -23,10 +23,11 @@ from pathlib import Path
 
 import numpy as np
 
-from qdsega.errors import FormationError
+from qdsega.errors import QdsegaError
 from qdsega.msm.legs import LegLayout
 from qdsega.training.config import read_run_config
 from qdsega.training.formation_copy import load_run_formation
+from qdsega.training.run_folder import RunFolder
 
 _HOLDOUT = 0.2
 _NEIGHBOURS = 5
@@ -59,10 +60,13 @@ def main() -> None:
     args = parser.parse_args()
     try:
         legs = LegLayout.from_formation(load_run_formation(args.run, read_run_config(args.run)))
-    except FormationError as exc:
-        raise SystemExit(str(exc)) from None
+    except QdsegaError as exc:  # not a run folder; a legless body
+        parser.error(str(exc))
+    table = RunFolder(args.run) / RunFolder.TRANSITIONS
+    if not table.is_file():
+        parser.error(f"{args.run}: no {RunFolder.TRANSITIONS} (not a memo-mode run)")
     swing, lift = np.array(legs.swing), np.array(legs.lift)
-    with np.load(args.run / "transitions.npz") as data:
+    with np.load(table) as data:
         pairs, values = data["pairs"], data["values"]
     before, after = pairs[:, : legs.n_joints], pairs[:, legs.n_joints :]
     print(f"{args.run}: {len(pairs)} transitions, {distinct(before, after)} distinct")

@@ -1,9 +1,13 @@
 """Reproduce the paper's first experiment (section 4.1) in the MSM, over several seeds.
 
-Runs ``qdsega train`` (in-process) with the paper-legged preset for each seed, then once more
-with the light 60 deg to the left, and prints greedy/optimum per seed and the turn.
+Usage: .venv/bin/python experiments/msm/reproduce_msm.py [--seeds 0 1 2 3 4] [--out runs/reproduce]
+           [--generations G] [--trials T] [--turn-bearing-deg 60] [--formation FILE]
 
-    .venv/bin/python tools/reproduce_msm.py [--seeds 0 1 2 3 4] [--out runs/reproduce]
+Trains (in-process, :func:`qdsega.training.run.train_or_resume`) legged12 in the MSM with the
+paper-legged preset for each seed into ``OUT/seedS``, then once more with the light 60 deg to
+the left into ``OUT/turn``, and prints the result over the optimum per seed and the turn; all of
+it also goes to ``OUT/reproduction.json``. A finished run folder is kept and an unfinished one
+resumed, so running it again finishes what a crash left (delete ``OUT`` to start again).
 """
 
 from __future__ import annotations
@@ -15,7 +19,7 @@ from pathlib import Path
 
 from qdsega.description.shipped import ASSEMBLIES_DIR
 from qdsega.training.config import resolve_config
-from qdsega.training.run import budget_overrides, train
+from qdsega.training.run import budget_overrides, train_or_resume
 
 
 def main() -> int:
@@ -32,7 +36,7 @@ def main() -> int:
     for seed in args.seeds:
         overrides = budget_overrides(generations=args.generations, trials=args.trials, seed=seed)
         config = resolve_config(preset="paper-legged", overrides=overrides)
-        s = train(args.formation, config, args.out / f"seed{seed}")
+        s = train_or_resume(args.formation, config, args.out / f"seed{seed}")
         ratios.append(s["greedy_over_optimum"])
         print(
             f"seed {seed}: greedy {s['greedy_distance']:.4f} m / optimum {s['optimum']:.4f} m "
@@ -47,7 +51,7 @@ def main() -> int:
     )
     overrides["light_bearing_deg"] = args.turn_bearing_deg
     config = resolve_config(preset="paper-legged", overrides=overrides)
-    s = train(args.formation, config, args.out / "turn")
+    s = train_or_resume(args.formation, config, args.out / "turn")
     lx, ly = s["light_xy"]
     straight = math.hypot(lx, ly) - math.hypot(lx - s["optimum"], ly)
     print(
@@ -56,7 +60,8 @@ def main() -> int:
         f"{s['final_heading_deg']:.1f} deg"
     )
     (args.out / "reproduction.json").write_text(
-        json.dumps({"ratios": ratios, "passed": passed, "turn": s}, indent=2) + "\n"
+        json.dumps({"ratios": ratios, "passed": passed, "turn": s}, indent=2) + "\n",
+        encoding="utf-8",
     )
     return 0
 
