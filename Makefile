@@ -3,40 +3,53 @@
 PYTHON ?= python3
 VENV := .venv
 BIN := $(VENV)/bin
+# The bench extra's PPO needs torch. A plain `pip install torch` pulls a CUDA build of several
+# GB; give a CPU index to get the CPU build instead, e.g.
+#   make test TORCH_INDEX=https://download.pytorch.org/whl/cpu
+# (left empty, pip takes torch from its usual sources, a local CPU wheel where one is there).
+TORCH_INDEX ?=
 
-.PHONY: demo test lint setup bench
+.PHONY: demo test test-fast lint bench
 
+# The core package alone: everything the demo needs.
 $(BIN)/qdsega: pyproject.toml
 	$(PYTHON) -m venv $(VENV)
 	$(BIN)/pip install --quiet --upgrade pip
-	# torch 2.13.0 (CPU) first, where a file of it is on disk: stable-baselines3 (the bench
-	# extra) would otherwise pull a CUDA build of several GB; elsewhere pip fetches it.
-	$(BIN)/pip install --quiet torch==2.13.0
+	$(BIN)/pip install --quiet -e .
+	touch $@
+
+# The test, Ray and bench extras on top (torch first, so that it comes from TORCH_INDEX).
+$(VENV)/extras: $(BIN)/qdsega
+	$(BIN)/pip install --quiet $(if $(TORCH_INDEX),--index-url $(TORCH_INDEX)) torch==2.13.0
 	$(BIN)/pip install --quiet -e ".[test,ray,bench]"
-	touch $(BIN)/qdsega
+	touch $@
 
-setup: $(BIN)/qdsega
-
-# The main job: assemble, learn snake5 in memo mode, check it with exact physics, film it,
-# draw it and write one HTML page, all into runs/demo/ (replaced on every run).
+# The main job: assemble every shipped formation, learn quadruped in memo mode, check it with
+# exact physics against the best reference gait, film it, draw it and write one HTML page, all
+# into runs/demo/ (replaced on every run).
 DEMO := runs/demo
 
-demo: setup
+demo: $(BIN)/qdsega
 	$(BIN)/qdsega assemble assemblies/*.yaml --out-dir out/assemblies
-	$(BIN)/qdsega train assemblies/snake5.yaml --sim memo --preset paper-snake \
-		--generations 8 --workers 2 --seed 0 --out $(DEMO) --overwrite
+	$(BIN)/qdsega train quadruped --sim memo --preset memo-legged --workers 2 --seed 0 \
+		--out $(DEMO) --overwrite
 	$(BIN)/qdsega evaluate $(DEMO)
 	$(BIN)/qdsega render $(DEMO) -o $(DEMO)/gait.mp4
 	$(BIN)/qdsega plot $(DEMO)
 	$(BIN)/qdsega report $(DEMO)
 
-lint: setup
-	$(BIN)/ruff check qdsega tools tests
-	$(BIN)/ruff format --check qdsega tools tests
+lint: $(VENV)/extras
+	$(BIN)/ruff check qdsega tools experiments tests
+	$(BIN)/ruff format --check qdsega tools experiments tests
 
+# Everything: ruff, then every test (the slow end-to-end ones too) on two processes.
 test: lint
 	$(BIN)/pytest -q -n 2 --dist worksteal
 
-# BENCHMARKS.md from scratch (about an hour on 2 cores; re-running continues a stopped one).
-bench: setup
+# The fast tier, for working: every test not marked slow (under a minute).
+test-fast: $(VENV)/extras
+	$(BIN)/pytest -q -n 2 --dist worksteal -m "not slow"
+
+# benchmarks/BENCHMARKS.md from scratch (about an hour on 2 cores; re-running continues).
+bench: $(VENV)/extras
 	$(BIN)/qdsega bench --out benchmarks --jobs 2

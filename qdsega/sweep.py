@@ -29,7 +29,7 @@ import io
 import itertools
 import multiprocessing
 from collections.abc import Callable, Sequence
-from concurrent.futures import ProcessPoolExecutor
+from concurrent.futures import ProcessPoolExecutor, as_completed
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -38,6 +38,7 @@ import yaml
 
 from qdsega.description import load_formation, resolve_formation
 from qdsega.errors import ConfigError, QdsegaError
+from qdsega.progress import ProgressFactory
 from qdsega.training.config import SIMULATORS, default_preset, resolve_config
 from qdsega.training.run import train_or_resume
 from qdsega.training.run_folder import RunFolder
@@ -190,37 +191,63 @@ def run_sweep(
     jobs: int = 1,
     ray: str | None = None,
     report: Callable[[SweepRun, str], None] = lambda run, status: None,
+    progress: ProgressFactory | None = None,
 ) -> list[dict[str, Any]]:
     """Run every run into ``OUT/NAME`` (``jobs`` at a time, or as Ray tasks when ``ray`` is
     ``local`` or an address); write and return the table's rows. ``report(run, status)`` is
-    called as each run ends."""
+    called as each run ends (on local processes in the order they end); ``progress`` makes
+    a line of runs finished of all, with an ETA (None: silent)."""
     if jobs < 1:
         raise ValueError(f"jobs must be at least 1, got {jobs}")
     out = out.resolve()
     folders = [out / run.name for run in runs]
-    if ray is not None:
-        from qdsega.workers.ray_cluster import connect
+    # Runs already evaluated are kept at once: counted as done, left out of the ETA's rate.
+    kept = {run.name for run, f in zip(runs, folders, strict=True) if _evaluated(f)}
+    line = None if progress is None else progress("sweep", len(runs), initial=len(kept))
+    statuses: list[str] = [""] * len(runs)
+    counts = {"done": len(kept), "failed": 0}
 
-        cluster = connect(ray)
-        remote = cluster.remote(num_cpus=1)(run_one)
-        pending = [remote.remote(run, folder) for run, folder in zip(runs, folders, strict=True)]
-        statuses = []
-        for run, task in zip(runs, pending, strict=True):
-            statuses.append(cluster.get(task))
-            report(run, statuses[-1])
-    else:
-        spawn = multiprocessing.get_context("spawn")  # each run in a fresh process of its own
-        with ProcessPoolExecutor(jobs, mp_context=spawn) as pool:
-            statuses = []
-            for run, status in zip(runs, pool.map(run_one, runs, folders), strict=True):
-                statuses.append(status)
-                report(run, status)
+    def ended(index: int, status: str) -> None:
+        run = runs[index]
+        statuses[index] = status
+        report(run, status)
+        counts["done"] += run.name not in kept
+        counts["failed"] += status != "ok"
+        if line is not None:
+            line.update(counts["done"], f"{counts['failed']} failed")
+
+    try:
+        if ray is not None:
+            from qdsega.workers.ray_cluster import connect
+
+            cluster = connect(ray)
+            remote = cluster.remote(num_cpus=1)(run_one)
+            pending = [remote.remote(run, f) for run, f in zip(runs, folders, strict=True)]
+            for index, task in enumerate(pending):
+                ended(index, cluster.get(task))
+        else:
+            spawn = multiprocessing.get_context("spawn")  # each run in a fresh process of its own
+            with ProcessPoolExecutor(jobs, mp_context=spawn) as pool:
+                futures = {
+                    pool.submit(run_one, run, folder): index
+                    for index, (run, folder) in enumerate(zip(runs, folders, strict=True))
+                }
+                for future in as_completed(futures):
+                    ended(futures[future], future.result())
+    finally:
+        if line is not None:
+            line.close()
     rows = [
         _row(run, folder, status)
         for run, folder, status in zip(runs, folders, statuses, strict=True)
     ]
     write_table(rows, out)
     return rows
+
+
+def _evaluated(folder: Path) -> bool:
+    """Whether the run in ``folder`` was evaluated (a sweep keeps it as it is)."""
+    return (folder / RunFolder.EVALUATION).is_file()
 
 
 def _row(run: SweepRun, folder: Path, status: str) -> dict[str, Any]:

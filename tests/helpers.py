@@ -2,7 +2,9 @@
 
 from __future__ import annotations
 
+import contextlib
 import csv
+import io
 import json
 import os
 import signal
@@ -20,16 +22,37 @@ SHIPPED_FORMATIONS = sorted(ASSEMBLIES_DIR.glob("*.yaml"))
 SHIPPED_UNITS = sorted(p for p in UNITS_DIR.iterdir() if p.is_dir() and p.name != "__pycache__")
 
 
-def run_cli(*args: str | Path, cwd: Path | None = None) -> subprocess.CompletedProcess[str]:
-    """Run ``qdsega ARGS`` in a subprocess; capture text output."""
-    return subprocess.run(
-        [sys.executable, "-m", "qdsega.cli", *map(str, args)],
-        capture_output=True,
-        text=True,
-        cwd=cwd,
-        timeout=300,
-        check=False,
-    )
+def run_cli(
+    *args: str | Path, cwd: Path | None = None, own_process: bool = False
+) -> subprocess.CompletedProcess[str]:
+    """Run ``qdsega ARGS`` and capture its text output: in this process (``cli.main``, as
+    fast as a function call), or with ``own_process`` in a subprocess (for what needs one:
+    Ray's global state, the installed entry point)."""
+    argv = [str(a) for a in args]
+    if own_process:
+        return subprocess.run(
+            [sys.executable, "-m", "qdsega.cli", *argv],
+            capture_output=True,
+            text=True,
+            cwd=cwd,
+            timeout=300,
+            check=False,
+        )
+    from qdsega.cli import main
+
+    out, err = io.StringIO(), io.StringIO()
+    here = Path.cwd()
+    try:
+        if cwd is not None:
+            os.chdir(cwd)
+        with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
+            try:
+                code = main(argv)
+            except SystemExit as exit:  # argparse's usage errors
+                code = exit.code if isinstance(exit.code, int) else 2
+    finally:
+        os.chdir(here)
+    return subprocess.CompletedProcess(argv, code, out.getvalue(), err.getvalue())
 
 
 def start_cli(*args: str | Path) -> subprocess.Popen[str]:

@@ -6,7 +6,10 @@ import re
 import shlex
 from pathlib import Path
 
+import pytest
 from helpers import run_cli
+
+pytestmark = pytest.mark.slow  # end to end: make test-fast leaves it out
 
 GUIDE = Path(__file__).resolve().parents[1] / "docs" / "formations.md"
 TINY = """\

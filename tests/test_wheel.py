@@ -10,6 +10,10 @@ import venv
 import zipfile
 from pathlib import Path
 
+import pytest
+
+pytestmark = pytest.mark.slow  # end to end: make test-fast leaves it out
+
 CHECKOUT = Path(__file__).resolve().parent.parent
 SOURCES = ("pyproject.toml", "README.md", "qdsega", "units", "assemblies")
 """What the wheel is built from: copied, so that the build leaves nothing in the checkout."""

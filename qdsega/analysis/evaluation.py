@@ -49,6 +49,7 @@ from qdsega.description import Formation, load_formation, resolve_formation
 from qdsega.errors import ConfigError, RunFolderError
 from qdsega.locomotion.env import LocomotionEnv, replay_postures
 from qdsega.locomotion.env_world import EnvWorld
+from qdsega.progress import ProgressFactory
 from qdsega.training.config import TrainingConfig, read_run_config
 from qdsega.training.formation_copy import load_run_formation
 from qdsega.training.reconfiguration import JointMapping
@@ -57,13 +58,17 @@ from qdsega.training.sims import check_sim, exact_env
 
 
 def evaluate_run(
-    run: Path | str, *, reference_trials: int = DEFAULT_BUDGET_TRIALS
+    run: Path | str,
+    *,
+    reference_trials: int = DEFAULT_BUDGET_TRIALS,
+    progress: ProgressFactory | None = None,
 ) -> dict[str, Any]:
     """Replay the run's greedy policy and the reference gaits; write ``evaluation.json``.
 
     Args:
         run: the run folder.
         reference_trials: the CMA-ES reference search's budget in trials (0: no search).
+        progress: shows the reference search's progress when it runs (None: silent).
 
     Raises:
         RunFolderError: missing or corrupt run folder; a negative search budget, or one below
@@ -85,7 +90,11 @@ def evaluate_run(
         learned = replay_policy(env, policy)
         candidates = [classic_reference(env, formation)]
         if reference_trials > 0:
-            candidates.append(searched_reference(env, formation, config, trials=reference_trials))
+            candidates.append(
+                searched_reference(
+                    env, formation, config, trials=reference_trials, progress=progress
+                )
+            )
     finally:
         env.close()
     reference = max(candidates, key=lambda c: c["distance_m"])
@@ -137,7 +146,7 @@ def evaluate_on(run: Path | str, other: Path | str) -> tuple[dict[str, Any], Pat
         "joints": mapping.report(),
         "postures": learned["postures"],
     }
-    file = run / f"evaluation-on-{target.name}.json"
+    file = RunFolder(run).evaluation_on(target.name)
     with replaced_atomically(file) as partial:
         partial.write_text(json.dumps(result, indent=2) + "\n", encoding="utf-8")
     return result, file
@@ -153,7 +162,7 @@ def replay_policy(env: LocomotionEnv, policy: GreedyPolicy) -> dict[str, Any]:
     )
     return {
         "distance_m": trial.distance_m,
-        "failure": world.failure,
+        "failure": trial.failure,
         "postures": trial.postures.tolist(),
         "unit_xy_m": units,
     }
@@ -187,10 +196,16 @@ def classic_reference(env: LocomotionEnv, formation: Formation) -> dict[str, Any
 
 
 def searched_reference(
-    env: LocomotionEnv, formation: Formation, config: TrainingConfig, *, trials: int
+    env: LocomotionEnv,
+    formation: Formation,
+    config: TrainingConfig,
+    *,
+    trials: int,
+    progress: ProgressFactory | None = None,
 ) -> dict[str, Any]:
     """The CPG gait CMA-ES finds in ``trials`` exact trials (cached by content hash,
-    :mod:`qdsega.baselines.reference_search`), replayed in ``env``."""
+    :mod:`qdsega.baselines.reference_search`), replayed in ``env``; a search shows its
+    progress through ``progress`` (None: silent)."""
     try:
         found = reference_gait(
             formation,
@@ -199,6 +214,7 @@ def searched_reference(
             physics=config.physics,
             budget_trials=trials,
             workers=config.workers,
+            progress=progress,
         )
     except ValueError as exc:
         raise ConfigError(f"reference search: {exc}") from None

@@ -37,6 +37,7 @@ import sys
 import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
+from functools import partial
 from pathlib import Path
 from typing import Any
 
@@ -49,6 +50,7 @@ from qdsega.description import Formation
 from qdsega.locomotion.env import Replay
 from qdsega.locomotion.exact_trials import ExactTrials
 from qdsega.locomotion.lower_agent import LowerAgentConfig
+from qdsega.progress import ProgressFactory, ProgressLine
 from qdsega.simulation import PhysicsSettings
 from qdsega.task import TaskConfig
 
@@ -113,6 +115,7 @@ def reference_gait(
     seed: int = 0,
     workers: int = 2,
     cache: bool = True,
+    progress: ProgressFactory | None = None,
 ) -> ReferenceGait:
     """The CMA-ES reference gait of ``formation`` under these rules: cached, else searched.
 
@@ -125,6 +128,8 @@ def reference_gait(
         seed: seed of the search's random generator.
         workers: processes simulating trials in parallel (1 simulates in this process).
         cache: look the result up and store it (see the module docstring).
+        progress: makes the line that shows a search's trials done of the budget and the
+            best distance so far (None: silent); a cached result shows nothing.
 
     Raises:
         ValueError: bad settings, a formation the lower agent cannot drive, or no trial
@@ -143,9 +148,14 @@ def reference_gait(
             if found is not None:
                 return found
     start = time.perf_counter()
-    gait, distance, evaluations, history = _search(
-        formation, task, lower_agent, physics, budget_trials, seed, workers
-    )
+    line = None if progress is None else progress("reference search", budget_trials)
+    try:
+        gait, distance, evaluations, history = _search(
+            formation, task, lower_agent, physics, budget_trials, seed, workers, line
+        )
+    finally:
+        if line is not None:
+            line.close()
     postures = gait.postures(formation, steps=task.trial_steps)
     postures.setflags(write=False)
     result = ReferenceGait(
@@ -346,8 +356,10 @@ def _search(
     budget_trials: int,
     seed: int,
     workers: int,
+    line: ProgressLine | None = None,
 ) -> tuple[CPGGait, float, int, list[float | None]]:
-    """:func:`search_cpg` in exact physics, spread over ``workers`` processes.
+    """:func:`search_cpg` in exact physics, spread over ``workers`` processes; its progress
+    on ``line``.
 
     Returns:
         the best completed gait, its distance (m), trials run, best distance per iteration.
@@ -360,6 +372,7 @@ def _search(
             trial_steps=task.trial_steps,
             budget_trials=budget_trials,
             seed=seed,
+            on_iteration=None if line is None else partial(_show, line),
         )
     if found.best is None:
         raise ValueError(
@@ -367,6 +380,11 @@ def _search(
             "agent failing"
         )
     return found.best[1], found.best[0], found.evaluations, found.history_m
+
+
+def _show(line: ProgressLine, evaluations: int, best_m: float | None) -> None:
+    """Trials done and the best distance so far on ``line``."""
+    line.update(evaluations, "no trial completed yet" if best_m is None else f"best {best_m:.3f} m")
 
 
 @dataclass(frozen=True)
@@ -394,11 +412,13 @@ def search_cpg(
     trial_steps: int,
     budget_trials: int,
     seed: int,
+    on_iteration: Callable[[int, float | None], None] | None = None,
 ) -> CPGSearch:
     """CMA-ES over whole generations within the budget, every candidate one trial played by
     ``replay`` (posture sequences (trial_steps, J) -> their outcomes, in order: exact
     physics, or a table world); when CMA-ES stops (every candidate the same gait), it
-    restarts from a random point with what is left of the budget."""
+    restarts from a random point with what is left of the budget. ``on_iteration(trials run,
+    best distance so far or None)`` is called after each iteration (to show progress)."""
     import cma  # here: it loads scipy.stats (about 0.6 s), which a cached reference needs not
 
     n = len(formation.joints)
@@ -436,4 +456,6 @@ def search_cpg(
         es.tell(points, costs)
         evaluations += len(points)
         history.append(None if best is None else best[0])
+        if on_iteration is not None:
+            on_iteration(evaluations, history[-1])
     return CPGSearch(best, evaluations, _popsize(formation), history)

@@ -23,30 +23,48 @@ from qdsega.bench.report import provenance, write_report
 from qdsega.bench.runs import BenchRun, bench_runs
 from qdsega.bench.tasks import BenchTask
 from qdsega.bench.throughput import throughput
+from qdsega.progress import ProgressFactory
 
 
 def run_all(
-    runs: Sequence[BenchRun], out: Path, *, jobs: int, log: Callable[[str], None] = print
+    runs: Sequence[BenchRun],
+    out: Path,
+    *,
+    jobs: int,
+    log: Callable[[str], None] = print,
+    progress: ProgressFactory | None = None,
 ) -> list[str]:
-    """Run every unfinished run, ``jobs`` at a time; return the failed runs' one-line errors."""
+    """Run every unfinished run, ``jobs`` at a time; return the failed runs' one-line errors.
+    ``progress`` makes a line of runs finished of all, with an ETA (None: silent)."""
     if jobs < 1:
         raise ValueError(f"jobs must be at least 1, got {jobs}")
     todo = [run for run in runs if not run.result(out).is_file()]
-    log(f"{len(runs) - len(todo)} of {len(runs)} runs finished before; running {len(todo)}")
+    before = len(runs) - len(todo)
+    log(f"{before} of {len(runs)} runs finished before; running {len(todo)}")
     errors: list[str] = []
+    line = None if progress is None or not todo else progress("bench", len(runs), initial=before)
     context = multiprocessing.get_context("spawn")  # no simulator or torch state inherited
-    with _one_thread_each(), ProcessPoolExecutor(max_workers=jobs, mp_context=context) as pool:
-        futures = {pool.submit(_run_one, run, out): run for run in todo}
-        for future in as_completed(futures):
-            run = futures[future]
-            label = f"{run.task.name} {run.name}"
-            error = future.result()
-            if error is None:
-                curve = Curve.load(run.result(out))
-                log(f"{label}: {curve.distance_m[-1]:.3f} m at {curve.steps[-1]} steps")
-            else:
-                errors.append(f"{label}: {error}")
-                log(f"{label}: FAILED: {error}")
+    try:
+        with (
+            _one_thread_each(),
+            ProcessPoolExecutor(max_workers=jobs, mp_context=context) as pool,
+        ):
+            futures = {pool.submit(_run_one, run, out): run for run in todo}
+            for done, future in enumerate(as_completed(futures), start=before + 1):
+                run = futures[future]
+                label = f"{run.task.name} {run.name}"
+                error = future.result()
+                if error is None:
+                    curve = Curve.load(run.result(out))
+                    log(f"{label}: {curve.distance_m[-1]:.3f} m at {curve.steps[-1]} steps")
+                else:
+                    errors.append(f"{label}: {error}")
+                    log(f"{label}: FAILED: {error}")
+                if line is not None:
+                    line.update(done, f"{len(errors)} failed")
+    finally:
+        if line is not None:
+            line.close()
     return errors
 
 
@@ -98,13 +116,14 @@ def run_bench(
     jobs: int,
     command: str,
     log: Callable[[str], None] = print,
+    progress: ProgressFactory | None = None,
 ) -> tuple[Path, list[str]]:
     """Run the benchmark into ``out`` and write its report; return the report's file and the
-    failed runs' errors."""
+    failed runs' errors. ``progress``: as :func:`run_all`'s."""
 
     made = provenance(command)
     runs = bench_runs(tasks)
-    errors = run_all(runs, out, jobs=jobs, log=log)
+    errors = run_all(runs, out, jobs=jobs, log=log, progress=progress)
     log("measuring throughput")
     file = write_report(
         tasks=tasks,

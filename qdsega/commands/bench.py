@@ -32,6 +32,7 @@ def run(args: argparse.Namespace) -> int:
     from qdsega.bench.runner import run_bench
     from qdsega.bench.runs import bench_runs
     from qdsega.bench.tasks import FULL, QUICK
+    from qdsega.progress import ProgressLine
 
     if args.jobs < 1:
         raise ConfigError(f"--jobs must be at least 1, got {args.jobs}")
@@ -44,7 +45,9 @@ def run(args: argparse.Namespace) -> int:
     out = args.out or Path("runs/bench-quick" if args.quick else "benchmarks")
     command = "qdsega bench" + (" --quick" if args.quick else "") + f" --out {out}"
     print(f"qdsega bench: {len(bench_runs(tasks))} runs -> {out}", flush=True)
-    file, errors = run_bench(tasks, out, jobs=args.jobs, command=command, log=_log)
+    file, errors = run_bench(
+        tasks, out, jobs=args.jobs, command=command, log=_log, progress=ProgressLine
+    )  # runs finished of all, with an ETA, on stderr
     print(f"qdsega bench: {len(errors)} runs failed -> {file}" if errors else f"-> {file}")
     return 1 if errors else 0
 

@@ -32,6 +32,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 def run(args: argparse.Namespace) -> int:
     # Imported here: it starts PyBullet, which the other commands need not load.
     from qdsega.analysis.evaluation import evaluate_on, evaluate_run
+    from qdsega.progress import ProgressLine
     from qdsega.training.reconfiguration import describe
     from qdsega.training.run_folder import RunFolder
 
@@ -48,7 +49,7 @@ def run(args: argparse.Namespace) -> int:
         return 0
 
     budget = {} if args.reference_trials is None else {"reference_trials": args.reference_trials}
-    result = evaluate_run(args.run, **budget)
+    result = evaluate_run(args.run, **budget, progress=ProgressLine)  # on stderr
     reference = result["reference"]
     ratio = "n/a" if result["ratio"] is None else f"{result['ratio']:.3f}"
     predicted = result["memo_prediction_m"]

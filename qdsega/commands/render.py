@@ -25,10 +25,19 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         metavar="FILE.csv",
         help="with a formation: one row per step, one level index per joint",
     )
-    parser.add_argument("--width", type=int, default=320, help="pixels (default 320)")
-    parser.add_argument("--height", type=int, default=240, help="pixels (default 240)")
+    parser.add_argument(
+        "--width", type=int, default=640, help="pixels (default 640; less for a smaller file)"
+    )
+    parser.add_argument(
+        "--height", type=int, default=480, help="pixels (default 480; less for a smaller file)"
+    )
     parser.add_argument("--fps", type=int, default=20, help="frames per simulated second")
-    parser.add_argument("--distance", type=float, default=1.0, help="camera distance (m)")
+    parser.add_argument(
+        "--distance",
+        type=float,
+        metavar="M",
+        help="camera distance (m; default: frame the body, 1.2 times its size at rest)",
+    )
     parser.add_argument("--pitch", type=float, default=25.0, help="camera looks down (deg)")
     parser.add_argument("--fov", type=float, default=60.0, help="vertical field of view (deg)")
 

@@ -6,6 +6,7 @@ import argparse
 from pathlib import Path
 
 from qdsega.errors import ConfigError
+from qdsega.progress import ProgressLine
 from qdsega.sweep import SweepRun, read_grid, run_sweep
 
 NAME = "sweep"
@@ -46,7 +47,9 @@ def run(args: argparse.Namespace) -> int:
     def report(run: SweepRun, status: str) -> None:
         print(f"{run.name}: {status}", flush=True)
 
-    rows = run_sweep(runs, out, jobs=args.jobs, ray=args.ray, report=report)
+    rows = run_sweep(
+        runs, out, jobs=args.jobs, ray=args.ray, report=report, progress=ProgressLine
+    )  # runs finished of all, with an ETA, on stderr
     failed = sum(row["status"] != "ok" for row in rows)
     print(f"{len(rows) - failed} of {len(rows)} runs finished -> {out / 'sweep.md'}")
     return 1 if failed else 0

@@ -44,7 +44,7 @@ from qdsega.errors import QdsegaWarning
 from qdsega.locomotion.lower_agent import LowerAgent, LowerAgentConfig
 from qdsega.simulation import PhysicsSettings
 from qdsega.simulation.bullet import BulletSimulation
-from qdsega.simulation.camera import LIGHT_RADIUS_FRACTION, CameraConfig
+from qdsega.simulation.camera import LIGHT_RADIUS_FRACTION, CameraConfig, body_extent_m
 from qdsega.task import Pose, Task, TaskConfig, move_pose, relative_move
 
 SETTLE_S = 0.5
@@ -109,6 +109,7 @@ class LocomotionEnv(gym.Env[np.ndarray, np.ndarray]):
         if rendering:
             radius = max(0.1, LIGHT_RADIUS_FRACTION * light.distance_m)
             self.sim.add_light(self._light_xy, radius_m=radius)
+            self._body_extent_m = body_extent_m(self.sim.unit_states()[0])  # at rest: framing
         self._start_state = self.sim.save_state()
         self._posture = self.start_levels.copy()
         self._pose: Pose = (0.0, 0.0, 0.0)
@@ -166,7 +167,7 @@ class LocomotionEnv(gym.Env[np.ndarray, np.ndarray]):
             height=camera.height,
             target_m=(pose.x_m, pose.y_m, 0.05),
             view_yaw_rad=math.atan2(light_y - pose.y_m, light_x - pose.x_m),
-            distance_m=camera.distance_m,
+            distance_m=camera.distance_for(self._body_extent_m),
             pitch_rad=camera.pitch_rad,
             fov_deg=camera.fov_deg,
         )

@@ -17,6 +17,7 @@ made them or in which order.
 
 from __future__ import annotations
 
+from collections.abc import Iterator
 from pathlib import Path
 
 import numpy as np
@@ -26,6 +27,7 @@ from qdsega.assembly import assemble
 from qdsega.atomic import replaced_atomically
 from qdsega.description import Formation
 from qdsega.locomotion.lower_agent import LowerAgent, LowerAgentConfig
+from qdsega.progress import ProgressFactory
 from qdsega.simulation import PhysicsSettings
 from qdsega.simulation.bullet import BulletSimulation
 from qdsega.task import relative_move
@@ -33,6 +35,10 @@ from qdsega.workers.pool import Pool, worker_pool
 
 SETTLE_S = 0.5
 """Rest time in the start posture of a transition before the command (s)."""
+
+PROGRESS_DELAY_S = 5.0
+"""A batch of measurements shows progress only once it has taken this long (s): the many short
+batches of a training run stay quiet between its per-generation lines."""
 
 _FIELDS = 4  # dx, dy, dtheta, failed
 
@@ -49,6 +55,8 @@ class MeasuredTransitions:
             ``ray`` is given).
         ray: measure on Ray actors instead of processes: ``local`` or a cluster address
             (:mod:`qdsega.workers.ray_cluster`); the table is the same bit for bit.
+        progress: makes the line that shows a batch's transitions measured of all, for
+            batches that take longer than ``PROGRESS_DELAY_S`` (None: silent).
     """
 
     def __init__(
@@ -60,6 +68,7 @@ class MeasuredTransitions:
         start_levels: tuple[int, ...] | None = None,
         workers: int = 2,
         ray: str | None = None,
+        progress: ProgressFactory | None = None,
     ) -> None:
         if workers < 1:
             raise ValueError(f"workers must be at least 1, got {workers}")
@@ -69,6 +78,7 @@ class MeasuredTransitions:
         self.physics = physics or PhysicsSettings()
         self.workers = workers
         self.ray = ray
+        self.progress = progress
         self._start = np.array(start_levels or formation.rest_levels(), dtype=np.int64)
         self._table: dict[bytes, np.ndarray] = {}
         self._pool: Pool | None = None
@@ -140,17 +150,32 @@ class MeasuredTransitions:
         if not jobs:
             return
         args = (self.formation, self.lower_agent, self.physics)
+        results: Iterator[np.ndarray]
         if self.workers == 1 and self.ray is None:
             _init_worker(*args)
-            results = [_measure_from(*job) for job in jobs]
+            results = (_measure_from(*job) for job in jobs)
         else:
             if self._pool is None:
                 self._pool = worker_pool(self.workers, _init_worker, args, ray=self.ray)
-            results = list(self._pool.map(_measure_from, *zip(*jobs, strict=True)))
-        for (source, missing), rows in zip(jobs, results, strict=True):
-            for target, row in zip(missing, rows, strict=True):
-                self._table[_key(source, target)] = row
-                self.measured += 1
+            results = iter(self._pool.map(_measure_from, *zip(*jobs, strict=True)))
+        total = sum(len(missing) for _, missing in jobs)
+        line = (
+            None
+            if self.progress is None
+            else self.progress("measuring transitions", total, delay_s=PROGRESS_DELAY_S)
+        )
+        done = 0
+        try:
+            for (source, missing), rows in zip(jobs, results, strict=True):
+                for target, row in zip(missing, rows, strict=True):
+                    self._table[_key(source, target)] = row
+                    self.measured += 1
+                done += len(missing)
+                if line is not None:
+                    line.update(done, f"memo table {len(self._table):,} transitions")
+        finally:
+            if line is not None:
+                line.close()
 
 
 def _key(source: np.ndarray, target: np.ndarray) -> bytes:

@@ -8,6 +8,7 @@ from typing import TextIO
 
 from tqdm import tqdm
 
+from qdsega.progress import clock
 from qdsega.training.run import GenerationReport
 from qdsega.training.sims import Failures
 
@@ -21,9 +22,9 @@ class ProgressDisplay:
     one line per generation with the same facts.
     """
 
-    def __init__(self, stream: TextIO = sys.stderr) -> None:
-        self.stream = stream
-        self.interactive = stream.isatty()
+    def __init__(self, stream: TextIO | None = None) -> None:
+        self.stream = sys.stderr if stream is None else stream
+        self.interactive = self.stream.isatty()
         self._bar: tqdm | None = None
 
     def start(self, *, completed: int, generations: int) -> None:
@@ -55,7 +56,7 @@ class ProgressDisplay:
         eta = report.session_s / report.session_generations * left
         print(
             f"generation {report.generation}/{report.generations}: {facts}, "
-            f"elapsed {_clock(report.elapsed_s)}, ETA {_clock(eta)}",
+            f"elapsed {clock(report.elapsed_s)}, ETA {clock(eta)}",
             file=self.stream,
             flush=True,
         )
@@ -64,10 +65,3 @@ class ProgressDisplay:
         if self._bar is not None:
             self._bar.close()
             self._bar = None
-
-
-def _clock(seconds: float) -> str:
-    """``h:mm:ss`` or ``m:ss``."""
-    minutes, secs = divmod(round(seconds), 60)
-    hours, minutes = divmod(minutes, 60)
-    return f"{hours}:{minutes:02d}:{secs:02d}" if hours else f"{minutes}:{secs:02d}"

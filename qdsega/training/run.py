@@ -25,6 +25,7 @@ from qdsega.agent.policy import Rollout
 from qdsega.atomic import replaced_atomically
 from qdsega.description import Formation, load_formation
 from qdsega.errors import ConfigError, QdsegaWarning, RunFolderError
+from qdsega.progress import ProgressLine
 from qdsega.training.checkpoint import Checkpoint, load_checkpoint, save_checkpoint
 from qdsega.training.config import TrainingConfig, read_run_config
 from qdsega.training.formation_copy import (
@@ -261,7 +262,7 @@ def _run(
 ) -> dict[str, Any]:
     session_start = time.perf_counter()
     out = folder.path
-    sim = build_sim(formation, config, out)
+    sim = build_sim(formation, config, out, measuring=None if progress is None else ProgressLine)
     try:
         learner = QDSEGA(
             config=config.agent,

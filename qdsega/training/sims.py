@@ -30,6 +30,7 @@ from qdsega.agent.world import TransitionProvider, Transitions, World
 from qdsega.description import Formation
 from qdsega.errors import FormationError
 from qdsega.msm import LegLayout, MinimalSimulationModel, Optimum, msm_optimum
+from qdsega.progress import ProgressFactory
 from qdsega.task import Task
 from qdsega.training.config import TrainingConfig
 from qdsega.training.run_folder import RunFolder
@@ -288,8 +289,15 @@ def check_sim(formation: Formation, config: TrainingConfig) -> None:
         raise FormationError(str(exc), file=formation.file) from None
 
 
-def build_sim(formation: Formation, config: TrainingConfig, run: Path) -> TrainingSim:
-    """The world ``config.sim`` names, for ``formation``; memo mode reuses ``run``'s table.
+def build_sim(
+    formation: Formation,
+    config: TrainingConfig,
+    run: Path,
+    *,
+    measuring: ProgressFactory | None = None,
+) -> TrainingSim:
+    """The simulator ``config.sim`` names, for ``formation``; memo mode reuses ``run``'s table
+    and shows large batches of measuring through ``measuring``.
 
     Raises:
         FormationError: the formation cannot be modelled by that world (a snake in the MSM).
@@ -316,6 +324,7 @@ def build_sim(formation: Formation, config: TrainingConfig, run: Path) -> Traini
         physics=config.physics,
         workers=config.workers,
         ray=config.ray,
+        progress=measuring,
     )
     if (run / RunFolder.TRANSITIONS).is_file():
         memo.load(run / RunFolder.TRANSITIONS)

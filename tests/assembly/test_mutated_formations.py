@@ -22,6 +22,8 @@ from qdsega.cli import main
 from qdsega.description import load_formation
 from qdsega.simulation.bullet import BulletSimulation
 
+pytestmark = pytest.mark.slow  # end to end: make test-fast leaves it out
+
 KeyPath = tuple[str | int, ...]
 SCALAR_MUTATIONS = {
     "negative": lambda v: -v if isinstance(v, int | float) and v != 0 else -1,

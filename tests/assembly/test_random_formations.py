@@ -11,6 +11,7 @@ import tempfile
 from pathlib import Path
 
 import numpy as np
+import pytest
 import yaml
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
@@ -19,6 +20,8 @@ from qdsega.assembly import assemble
 from qdsega.description import load_formation
 from qdsega.description.random_formation import random_formation
 from qdsega.simulation.bullet import BulletSimulation
+
+pytestmark = pytest.mark.slow  # end to end: make test-fast leaves it out
 
 TOOL = Path(__file__).resolve().parents[2] / "tools" / "random_formations.py"
 

@@ -1,4 +1,5 @@
 import dataclasses
+import io
 import json
 import math
 import subprocess
@@ -16,9 +17,12 @@ from qdsega.description import Light, load_formation
 from qdsega.description.shipped import ASSEMBLIES_DIR
 from qdsega.locomotion.env import LocomotionEnv, replay_postures
 from qdsega.locomotion.lower_agent import LowerAgentConfig
+from qdsega.progress import ProgressLine
 from qdsega.simulation import PhysicsSettings
 from qdsega.task import TaskConfig
 from qdsega.training.config import resolve_config
+
+pytestmark = pytest.mark.slow  # end to end: make test-fast leaves it out
 
 SNAKE = load_formation(ASSEMBLIES_DIR / "snake5.yaml")
 STEPS = 6
@@ -192,6 +196,28 @@ def test_a_corrupt_cache_file_is_recomputed(searches, capsys, spoil):
     assert second.params == first.params
     reference_gait(SNAKE, **QUICK, budget_trials=ONE_GENERATION, workers=1)  # rewritten whole
     assert len(searches) == 2
+
+
+def test_a_search_shows_trials_of_the_budget_and_the_best_so_far(capsys):
+    stream, made = io.StringIO(), []
+
+    def factory(label: str, total: int, *, delay_s: float = 0.0, initial: int = 0) -> ProgressLine:
+        made.append((label, total))
+        return ProgressLine(label, total, stream=stream, every_s=0.0)  # every iteration
+
+    budget = 2 * ONE_GENERATION + 3  # the search stops at 22 of 25: the last line still shows
+    found = reference_gait(SNAKE, **QUICK, budget_trials=budget, workers=1, progress=factory)
+    assert made == [("reference search", budget)]
+    lines = stream.getvalue().splitlines()
+    assert [line.split(":")[0] for line in lines] == [
+        "reference search 11/25",
+        "reference search 22/25",
+    ]
+    assert lines[-1].startswith(f"reference search 22/25: best {found.distance_m:.3f} m, elapsed ")
+    reference_gait(SNAKE, **QUICK, budget_trials=budget, workers=1, progress=factory)
+    assert len(made) == 1  # cached: no search, no line
+    reference_gait(SNAKE, **QUICK, budget_trials=budget, workers=1, cache=False)
+    assert capsys.readouterr().err == ""  # no factory: silent
 
 
 def test_bad_settings_are_refused():

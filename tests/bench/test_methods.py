@@ -63,6 +63,7 @@ def test_the_ablations_differ_from_qdsega(tmp_path):
     assert not _same(curves["qdsega"], curves["fixed-set"])
 
 
+@pytest.mark.slow
 @needs_sb3
 def test_ppo_depends_on_its_seed_only(tmp_path):
     first = METHODS["ppo"](TINY, 0, tmp_path)

@@ -14,9 +14,12 @@ from qdsega.bench.tasks import QUICK
 from qdsega.commands import bench
 from qdsega.errors import ConfigError
 
-pytestmark = pytest.mark.skipif(
-    importlib.util.find_spec("stable_baselines3") is None, reason="needs qdsega[bench]"
-)
+pytestmark = [
+    pytest.mark.slow,
+    pytest.mark.skipif(
+        importlib.util.find_spec("stable_baselines3") is None, reason="needs qdsega[bench]"
+    ),
+]
 RUNS = sum(len(task.methods) * task.seeds for task in QUICK)
 
 
@@ -41,6 +44,7 @@ def test_every_method_runs_on_every_task_and_the_report_shows_it(quick):
             # one row in the budget table, one in the cost table
             assert sections[task.name].count(f"| {method} |") == 2
     assert "Throughput on this machine" in sections and "commit " in report
+    assert f"bench {RUNS}/{RUNS}: 0 failed, elapsed " in result.stderr  # the progress line
 
 
 def test_a_rerun_skips_every_finished_run(quick):
@@ -50,6 +54,7 @@ def test_a_rerun_skips_every_finished_run(quick):
     again = run_cli("bench", "--quick", "--out", out, "--jobs", "2")
     assert again.returncode == 0, again.stderr
     assert f"{RUNS} of {RUNS} runs finished before; running 0" in again.stdout
+    assert "bench " not in again.stderr  # nothing to run: no progress line
     assert {file: file.stat().st_mtime_ns for file in results} == before
 
 

@@ -12,6 +12,8 @@ import numpy as np
 import pytest
 from helpers import run_cli
 
+pytestmark = pytest.mark.slow  # end to end: make test-fast leaves it out
+
 TOOLS = Path(__file__).resolve().parents[2] / "experiments" / "grid"
 TINY = """\
 workers: 1

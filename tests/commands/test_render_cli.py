@@ -96,3 +96,17 @@ def test_without_egl_it_warns_once_and_still_renders(tmp_path, monkeypatch, caps
     assert captured.err == "qdsega render: warning: EGL unavailable, rendered with TinyRenderer\n"
     frames = iio.imread(out)
     assert frames.shape[1:] == (32, 48, 3) and frames.std() > 10
+
+
+def test_by_default_the_video_is_640x480_and_the_body_fills_a_fair_part_of_it(tmp_path):
+    postures = tmp_path / "rest.csv"
+    postures.write_text(",".join(["0"] * 12) + "\n")  # hexapod: 12 joints, one step at rest
+    out = tmp_path / "hexapod.mp4"
+    result = run_cli("render", "hexapod", "--postures", postures, "-o", out, "--fps", "4")
+    assert result.returncode == 0, result.stderr
+    frame = iio.imread(out, index=0)
+    assert frame.shape == (480, 640, 3)
+    blue = (frame[..., 2] > 140) & (frame[..., 0] < 110)  # the servo units
+    blue[:100] = False  # not the sky
+    columns = np.flatnonzero(blue.any(axis=0))
+    assert columns.max() - columns.min() > 0.4 * 640  # framed: a third at most before

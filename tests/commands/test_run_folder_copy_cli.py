@@ -6,9 +6,12 @@ from __future__ import annotations
 import json
 import shutil
 
+import pytest
 from helpers import run_cli
 
 from qdsega.description.shipped import ASSEMBLIES_DIR
+
+pytestmark = pytest.mark.slow  # end to end: make test-fast leaves it out
 
 TINY = "task: {trial_steps: 6}\n"
 NO_SEARCH = ("--reference-trials", "0")  # the classic gaits only: this test is about files

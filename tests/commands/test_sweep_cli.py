@@ -8,6 +8,8 @@ from pathlib import Path
 import pytest
 from helpers import run_cli
 
+pytestmark = pytest.mark.slow  # end to end: make test-fast leaves it out
+
 GRID = """\
 formations: [quadruped, snake5]   # snake5 cannot run in the MSM: the broken run
 seeds: [0]
@@ -42,6 +44,9 @@ def test_a_broken_run_is_reported_and_the_others_finish(local_sweep):
     assert "Minimal Simulation Model needs a legged formation" in broken["error"]
     assert "snake5-paper-legged-tiny-seed0: train: " in result.stdout
     assert (folder / "out" / "sweep.md").read_text().count("\n") == 4  # header, rule, 2 rows
+    progress = [line for line in result.stderr.splitlines() if line.startswith("sweep ")]
+    assert progress[-1].startswith("sweep 2/2: 1 failed, elapsed "), result.stderr
+    assert progress[-1].endswith(", ETA 0:00")
 
 
 def test_a_rerun_keeps_finished_runs_and_resumes_unfinished_ones(local_sweep):
@@ -63,7 +68,9 @@ def test_ray_local_gives_the_same_table(local_sweep, tmp_path):
     pytest.importorskip("ray", reason="Ray is an optional extra: pip install 'qdsega[ray]'")
     folder, _ = local_sweep
     out = tmp_path / "out"
-    result = run_cli("sweep", folder / "grid.yaml", "--out", out, "--ray", "local")
+    result = run_cli(
+        "sweep", folder / "grid.yaml", "--out", out, "--ray", "local", own_process=True
+    )
     assert result.returncode == 1, result.stderr
     local = {row["run"]: row for row in _rows(folder / "out")}
     for row in _rows(out):

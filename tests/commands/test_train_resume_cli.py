@@ -23,6 +23,8 @@ from helpers import (
 
 from qdsega.description.shipped import ASSEMBLIES_DIR
 
+pytestmark = pytest.mark.slow  # end to end: make test-fast leaves it out
+
 MEMO_BUDGET = """\
 workers: {workers}
 local_search: 2

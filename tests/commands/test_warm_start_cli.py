@@ -12,6 +12,8 @@ from helpers import assert_same_result, finished_generations, run_cli, start_cli
 
 from qdsega.description.shipped import ASSEMBLIES_DIR
 
+pytestmark = pytest.mark.slow  # end to end: make test-fast leaves it out
+
 MSM = ["--sim", "msm", "--trials", "2000", "--quiet"]
 MEMO_BUDGET = """\
 workers: 1

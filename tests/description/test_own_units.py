@@ -46,6 +46,7 @@ def mixed(tmp_path: Path) -> Path:
     return file
 
 
+@pytest.mark.slow
 def test_own_and_shipped_unit_types_assemble_train_and_evaluate(mixed, tmp_path, capsys):
     formation = load_formation(mixed)
     masses = {u.name: u.unit_type.mass_kg for u in formation.units}

@@ -6,6 +6,10 @@ import subprocess
 import sys
 from pathlib import Path
 
+import pytest
+
+pytestmark = pytest.mark.slow  # end to end: make test-fast leaves it out
+
 EXPERIMENT = Path(__file__).resolve().parents[2] / "experiments" / "memo_speed"
 
 

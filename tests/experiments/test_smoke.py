@@ -17,6 +17,8 @@ import pytest
 from qdsega.analysis.evaluation import evaluate_run
 from qdsega.sweep import TABLE_COLUMNS, read_grid
 
+pytestmark = pytest.mark.slow  # end to end: make test-fast leaves it out
+
 ROOT = Path(__file__).resolve().parents[2]
 TINY = """\
 agent:

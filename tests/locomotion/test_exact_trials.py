@@ -2,6 +2,7 @@
 order given, and every command counted; an open-loop policy walks as its replayed sequence."""
 
 import numpy as np
+import pytest
 
 from qdsega.agent.policy import BoltzmannPolicy, GreedyPolicy, SequencePolicy
 from qdsega.description import load_formation, resolve_formation
@@ -11,6 +12,7 @@ from qdsega.simulation import PhysicsSettings
 from qdsega.task import TaskConfig
 
 
+@pytest.mark.slow
 def test_trials_in_workers_equal_trials_here_in_order():
     formation = load_formation(resolve_formation("snake5"))
     actions = np.array([[0, 8, 0, 8], [8, 0, 8, 0], [4, 4, 4, 4]])

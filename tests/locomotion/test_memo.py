@@ -19,6 +19,7 @@ def _postures(count: int) -> np.ndarray:
     return np.random.default_rng(0).integers(0, 9, size=(count, 4))
 
 
+@pytest.mark.slow
 def test_measurements_do_not_depend_on_order_or_workers(snake5):
     postures = _postures(3)
     serial = MeasuredTransitions(formation=snake5, lower_agent=LowerAgentConfig(), workers=1)

@@ -8,6 +8,8 @@ import sys
 import textwrap
 import time
 
+import pytest
+
 PARENT = textwrap.dedent(
     """
     import os, signal
@@ -32,6 +34,7 @@ def _alive(pid: int) -> bool:
     return True
 
 
+@pytest.mark.slow
 def test_a_worker_ends_when_its_parent_is_killed(tmp_path):
     script = tmp_path / "parent.py"
     script.write_text(PARENT)

@@ -10,6 +10,8 @@ from qdsega.locomotion.lower_agent import LowerAgentConfig
 from qdsega.locomotion.memo import MeasuredTransitions
 from qdsega.training.run_folder import RunFolder
 
+pytestmark = pytest.mark.slow  # end to end: make test-fast leaves it out
+
 ray = pytest.importorskip("ray", reason="Ray is an optional extra: pip install 'qdsega[ray]'")
 
 
@@ -53,6 +55,7 @@ def test_a_run_with_ray_local_learns_what_local_processes_learn(tmp_path):
         result = run_cli(
             "train", "snake5", "--sim", "memo", "--preset", "paper-snake", "--workers", "2",
             "--config", tmp_path / "tiny.yaml", "--out", runs[name], "--quiet", *extra,
+            own_process=True,
         )  # fmt: skip
         assert result.returncode == 0, result.stderr
     memo = RunFolder.TRANSITIONS
@@ -71,7 +74,7 @@ def test_more_ray_workers_than_cpus_are_refused_before_anything_is_written(tmp_p
 
     result = run_cli(
         "train", "snake5", "--sim", "memo", "--ray", "local", "--workers", "64",
-        "--out", tmp_path / "run",
+        "--out", tmp_path / "run", own_process=True,
     )  # fmt: skip
     assert result.returncode == 2, result.stderr
     assert "64 Ray workers need 64 CPUs" in result.stderr
