@@ -38,9 +38,7 @@ def main() -> None:
         formation = load_formation(resolve_formation(args.formation))
         result = reference_gait(
             formation,
-            task=config.task,
-            lower_agent=config.lower_agent,
-            physics=config.physics,
+            rules=config.rules,
             budget_trials=args.budget_trials,
             seed=args.seed,
             workers=args.workers,

@@ -27,13 +27,12 @@ import numpy as np
 from qdsega.assembly import assemble
 from qdsega.baselines.reference_search import reference_gait
 from qdsega.description import Formation, load_formation, resolve_formation
-from qdsega.locomotion.env import replay_postures
+from qdsega.locomotion.env import replay_postures, rules_env
 from qdsega.locomotion.lower_agent import LowerAgent
 from qdsega.locomotion.memo import SETTLE_S, MeasuredTransitions
 from qdsega.simulation.bullet import BulletSimulation
 from qdsega.task import Task, move_pose, relative_move
 from qdsega.training.config import TrainingConfig, resolve_config
-from qdsega.training.sims import exact_env
 
 Move = tuple[float, float, float] | None
 
@@ -113,7 +112,7 @@ def main() -> None:
     formation = load_formation(resolve_formation(args.formation))
     task = Task(config=config.task, light_xy=formation.light.position_m)
     steps = config.task.trial_steps
-    env = exact_env(formation, config)
+    env = rules_env(formation, config.rules)
     memo = MeasuredTransitions(
         formation=formation, lower_agent=config.lower_agent, physics=config.physics, workers=1
     )
@@ -124,9 +123,7 @@ def main() -> None:
         [tuple(int(rng.integers(n)) for n in counts) for _ in range(2 + k % 3)]
         for k in range(args.gaits)
     ]
-    reference = reference_gait(
-        formation, task=config.task, lower_agent=config.lower_agent, physics=config.physics
-    )
+    reference = reference_gait(formation, rules=config.rules)
     period = reference.postures[: reference.params.period_steps]
     gaits.insert(0, [tuple(int(x) for x in p) for p in period])
     rest = tuple(int(x) for x in formation.rest_levels())

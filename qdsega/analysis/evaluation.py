@@ -47,14 +47,14 @@ from qdsega.baselines.reference_search import (
 )
 from qdsega.description import Formation, load_formation, resolve_formation
 from qdsega.errors import ConfigError, RunFolderError
-from qdsega.locomotion.env import LocomotionEnv, replay_postures
+from qdsega.locomotion.env import LocomotionEnv, replay_postures, rules_env
 from qdsega.locomotion.env_world import EnvWorld
 from qdsega.progress import ProgressFactory
 from qdsega.training.config import TrainingConfig, read_run_config
 from qdsega.training.formation_copy import load_run_formation
 from qdsega.training.reconfiguration import JointMapping
 from qdsega.training.run_folder import RunFolder
-from qdsega.training.sims import check_sim, exact_env
+from qdsega.training.sims import check_sim
 
 
 def evaluate_run(
@@ -85,7 +85,7 @@ def evaluate_run(
             check_budget(formation, reference_trials)  # before any physics
         except ValueError as exc:
             raise ConfigError(f"reference search: {exc}") from None
-    env = exact_env(formation, config)
+    env = rules_env(formation, config.rules)
     try:
         learned = replay_policy(env, policy)
         candidates = [classic_reference(env, formation)]
@@ -133,7 +133,7 @@ def evaluate_on(run: Path | str, other: Path | str) -> tuple[dict[str, Any], Pat
     target = config.with_light(load_formation(resolve_formation(other)))
     check_sim(target, replace(config, sim="memo"))  # the lower agent must drive it
     mapping = JointMapping.between(source, target)
-    env = exact_env(target, config)
+    env = rules_env(target, config.rules)
     try:
         learned = replay_policy(env, mapping.policy(policy, target))
     finally:
@@ -209,9 +209,7 @@ def searched_reference(
     try:
         found = reference_gait(
             formation,
-            task=config.task,
-            lower_agent=config.lower_agent,
-            physics=config.physics,
+            rules=config.rules,
             budget_trials=trials,
             workers=config.workers,
             progress=progress,

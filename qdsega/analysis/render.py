@@ -11,11 +11,10 @@ from qdsega.analysis.recorder import Film, record
 from qdsega.analysis.video import VIDEO_SUFFIXES, write_video
 from qdsega.description import Formation
 from qdsega.errors import ConfigError, FormationError
-from qdsega.locomotion.env import LocomotionEnv
+from qdsega.locomotion.env import LocomotionEnv, rules_env
 from qdsega.simulation.camera import CameraConfig
 from qdsega.training.formation_copy import load_run_formation
 from qdsega.training.run_folder import RunFolder
-from qdsega.training.sims import exact_env
 
 
 def render_run(run: Path, out: Path, camera: CameraConfig) -> Film:
@@ -25,7 +24,7 @@ def render_run(run: Path, out: Path, camera: CameraConfig) -> Film:
     _, config, policy = load_run(run)
     formation = load_run_formation(run, config)
     evaluation = RunFolder(run).read_evaluation()
-    env = exact_env(formation, config, camera=camera)
+    env = rules_env(formation, config.rules, camera=camera)
     try:
         if evaluation is not None:
             postures = np.array(evaluation["postures"])

@@ -49,10 +49,8 @@ from qdsega.baselines.cpg import CPGGait
 from qdsega.description import Formation
 from qdsega.locomotion.env import Replay
 from qdsega.locomotion.exact_trials import ExactTrials
-from qdsega.locomotion.lower_agent import LowerAgentConfig
+from qdsega.locomotion.rules import ExactRules
 from qdsega.progress import ProgressFactory, ProgressLine
-from qdsega.simulation import PhysicsSettings
-from qdsega.task import TaskConfig
 
 FORMAT_VERSION = 1
 """Part of every key; bump it when a change of the search or the simulation changes results."""
@@ -108,9 +106,7 @@ class ReferenceGait:
 def reference_gait(
     formation: Formation,
     *,
-    task: TaskConfig,
-    lower_agent: LowerAgentConfig,
-    physics: PhysicsSettings,
+    rules: ExactRules,
     budget_trials: int = DEFAULT_BUDGET_TRIALS,
     seed: int = 0,
     workers: int = 2,
@@ -121,9 +117,7 @@ def reference_gait(
 
     Args:
         formation: the robot and its light.
-        task: trial length (``trial_steps`` upper-agent steps).
-        lower_agent: how postures are executed and when that fails.
-        physics: engine settings.
+        rules: the task (its trial length), the lower agent and the physics.
         budget_trials: trials the search may run (-).
         seed: seed of the search's random generator.
         workers: processes simulating trials in parallel (1 simulates in this process).
@@ -137,9 +131,9 @@ def reference_gait(
     """
     if workers < 1:
         raise ValueError(f"workers must be at least 1, got {workers}")
-    lower_agent.step_duration_for(formation)  # refuses a step too short for a joint
+    rules.lower_agent.step_duration_for(formation)  # refuses a step too short for a joint
     check_budget(formation, budget_trials)
-    inputs = _key_inputs(formation, task, lower_agent, physics, budget_trials, seed)
+    inputs = _key_inputs(formation, rules, budget_trials, seed)
     key = _hash(inputs)
     name = f"{formation.name}-{key[:16]}.json"
     if cache:
@@ -151,12 +145,13 @@ def reference_gait(
     line = None if progress is None else progress("reference search", budget_trials)
     try:
         gait, distance, evaluations, history = _search(
-            formation, task, lower_agent, physics, budget_trials, seed, workers, line
+            formation, rules, budget_trials, seed, workers, line
         )
     finally:
         if line is not None:
             line.close()
-    postures = gait.postures(formation, steps=task.trial_steps)
+    steps = rules.task.trial_steps
+    postures = gait.postures(formation, steps=steps)
     postures.setflags(write=False)
     result = ReferenceGait(
         kind="cpg",
@@ -164,7 +159,7 @@ def reference_gait(
         postures=postures,
         distance_m=distance,
         budget_trials=budget_trials,
-        budget_steps=budget_trials * task.trial_steps,
+        budget_steps=budget_trials * steps,
         evaluations=evaluations,
         wall_s=time.perf_counter() - start,
         history_m=tuple(history),
@@ -189,14 +184,12 @@ def check_budget(formation: Formation, budget_trials: int) -> None:
 def reference_key(
     formation: Formation,
     *,
-    task: TaskConfig,
-    lower_agent: LowerAgentConfig,
-    physics: PhysicsSettings,
+    rules: ExactRules,
     budget_trials: int = DEFAULT_BUDGET_TRIALS,
     seed: int = 0,
 ) -> str:
     """The cache key (64 hex digits) of :func:`reference_gait` with these arguments."""
-    return _hash(_key_inputs(formation, task, lower_agent, physics, budget_trials, seed))
+    return _hash(_key_inputs(formation, rules, budget_trials, seed))
 
 
 def user_cache_dir() -> Path:
@@ -209,13 +202,13 @@ def user_cache_dir() -> Path:
 # -- the rules: what a result depends on -----------------------------------------------------
 
 
-def _rules(task: TaskConfig, lower_agent: LowerAgentConfig, physics: PhysicsSettings) -> dict:
+def _rules(rules: ExactRules) -> dict:
     """The settings a posture sequence's distance depends on, as plain types (of the task, the
     trial length alone: an open-loop gait earns no reward and sees no exterior state)."""
     return {
-        "trial_steps": task.trial_steps,
-        "lower_agent": dataclasses.asdict(lower_agent),
-        "physics": dataclasses.asdict(physics),
+        "trial_steps": rules.task.trial_steps,
+        "lower_agent": dataclasses.asdict(rules.lower_agent),
+        "physics": dataclasses.asdict(rules.physics),
     }
 
 
@@ -224,9 +217,7 @@ def _rules(task: TaskConfig, lower_agent: LowerAgentConfig, physics: PhysicsSett
 
 def _key_inputs(
     formation: Formation,
-    task: TaskConfig,
-    lower_agent: LowerAgentConfig,
-    physics: PhysicsSettings,
+    rules: ExactRules,
     budget_trials: int,
     seed: int,
 ) -> dict[str, Any]:
@@ -256,7 +247,7 @@ def _key_inputs(
         "legs": [dataclasses.asdict(leg) for leg in formation.legs],
         "start_levels": list(formation.rest_levels()),
         "light_m": list(formation.light.position_m),
-        **_rules(task, lower_agent, physics),
+        **_rules(rules),
         "pybullet": importlib.metadata.version("pybullet"),
         "search": {
             "budget_trials": budget_trials,
@@ -350,9 +341,7 @@ def _gait(formation: Formation, x: np.ndarray) -> CPGGait:
 
 def _search(
     formation: Formation,
-    task: TaskConfig,
-    lower_agent: LowerAgentConfig,
-    physics: PhysicsSettings,
+    rules: ExactRules,
     budget_trials: int,
     seed: int,
     workers: int,
@@ -364,12 +353,11 @@ def _search(
     Returns:
         the best completed gait, its distance (m), trials run, best distance per iteration.
     """
-    rules = {"task": task, "lower_agent": lower_agent, "physics": physics}
-    with ExactTrials(formation=formation, workers=workers, **rules) as trials:
+    with ExactTrials(formation=formation, rules=rules, workers=workers) as trials:
         found = search_cpg(
             formation,
             replay=trials.replays,
-            trial_steps=task.trial_steps,
+            trial_steps=rules.task.trial_steps,
             budget_trials=budget_trials,
             seed=seed,
             on_iteration=None if line is None else partial(_show, line),

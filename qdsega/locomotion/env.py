@@ -42,6 +42,7 @@ from qdsega.assembly import assemble
 from qdsega.description import Formation, load_formation, resolve_formation
 from qdsega.errors import QdsegaWarning
 from qdsega.locomotion.lower_agent import LowerAgent, LowerAgentConfig
+from qdsega.locomotion.rules import ExactRules
 from qdsega.simulation import PhysicsSettings
 from qdsega.simulation.bullet import BulletSimulation
 from qdsega.simulation.camera import LIGHT_RADIUS_FRACTION, CameraConfig, body_extent_m
@@ -187,6 +188,21 @@ class LocomotionEnv(gym.Env[np.ndarray, np.ndarray]):
             "heading_rad": self._pose[2],
             "distance_covered_m": self.distance_covered(),
         }
+
+
+def rules_env(
+    formation: Formation, rules: ExactRules, *, camera: CameraConfig | None = None
+) -> LocomotionEnv:
+    """The exact-physics environment of ``formation`` under ``rules``; rendering through
+    ``camera`` when given."""
+    return LocomotionEnv(
+        formation=formation,
+        task=rules.task,
+        lower_agent=rules.lower_agent,
+        physics=rules.physics,
+        render_mode=None if camera is None else "rgb_array",
+        camera=camera,
+    )
 
 
 @dataclass(frozen=True)

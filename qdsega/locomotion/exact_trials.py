@@ -16,11 +16,9 @@ import numpy as np
 
 from qdsega.agent.policy import Policy, Rollout, rollout
 from qdsega.description import Formation
-from qdsega.locomotion.env import LocomotionEnv, Replay, replay_postures
+from qdsega.locomotion.env import LocomotionEnv, Replay, replay_postures, rules_env
 from qdsega.locomotion.env_world import EnvWorld
-from qdsega.locomotion.lower_agent import LowerAgentConfig
-from qdsega.simulation import PhysicsSettings
-from qdsega.task import TaskConfig
+from qdsega.locomotion.rules import ExactRules
 from qdsega.workers.pool import Pool, worker_pool
 
 
@@ -29,32 +27,21 @@ class ExactTrials:
 
     Args:
         formation: the robot.
-        task: trial length, reward, penalty and exterior bins.
-        lower_agent: how postures are executed and when that fails.
-        physics: engine settings.
+        rules: the task, the lower agent and the physics.
         workers: processes running trials (1: one env in this process).
     """
 
-    def __init__(
-        self,
-        *,
-        formation: Formation,
-        task: TaskConfig,
-        lower_agent: LowerAgentConfig,
-        physics: PhysicsSettings,
-        workers: int,
-    ) -> None:
+    def __init__(self, *, formation: Formation, rules: ExactRules, workers: int) -> None:
         if workers < 1:
             raise ValueError(f"workers must be at least 1, got {workers}")
-        rules = (formation, task, lower_agent, physics)
         self._env: LocomotionEnv | None = None
         self._pool: Pool | None = None
         self.commands = 0
         """Postures commanded in every trial so far (upper-agent steps simulated)."""
         if workers > 1:
-            self._pool = worker_pool(workers, _init_worker, rules)
+            self._pool = worker_pool(workers, _init_worker, (formation, rules))
         else:
-            self._env = _env(*rules)
+            self._env = rules_env(formation, rules)
 
     def replays(self, postures: Sequence[np.ndarray]) -> list[Replay]:
         """Each posture sequence (steps, J) of level indices played as one trial, in order."""
@@ -94,20 +81,12 @@ class ExactTrials:
         self.close()
 
 
-def _env(
-    formation: Formation, task: TaskConfig, lower_agent: LowerAgentConfig, physics: PhysicsSettings
-) -> LocomotionEnv:
-    return LocomotionEnv(formation=formation, task=task, lower_agent=lower_agent, physics=physics)
-
-
 _worker_env: LocomotionEnv | None = None
 
 
-def _init_worker(
-    formation: Formation, task: TaskConfig, lower_agent: LowerAgentConfig, physics: PhysicsSettings
-) -> None:
+def _init_worker(formation: Formation, rules: ExactRules) -> None:
     global _worker_env
-    _worker_env = _env(formation, task, lower_agent, physics)
+    _worker_env = rules_env(formation, rules)
 
 
 def _replay_in_worker(postures: np.ndarray) -> Replay:

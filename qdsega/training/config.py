@@ -32,6 +32,7 @@ from qdsega.agent.config import PRESETS, QDSEGAConfig
 from qdsega.description import Formation, Light
 from qdsega.errors import ConfigError, QdsegaError, RunFolderError
 from qdsega.locomotion.lower_agent import LowerAgentConfig
+from qdsega.locomotion.rules import ExactRules
 from qdsega.msm import MSMParameters
 from qdsega.simulation import PhysicsSettings
 from qdsega.task import TaskConfig
@@ -124,6 +125,11 @@ class TrainingConfig:
     def to_dict(self) -> dict[str, Any]:
         """Plain types only (tuples become lists), for YAML."""
         return _plain(dataclasses.asdict(self))
+
+    @property
+    def rules(self) -> ExactRules:
+        """What exact physics judges this run's trials by: its task, lower agent, physics."""
+        return ExactRules(task=self.task, lower_agent=self.lower_agent, physics=self.physics)
 
     def with_light(self, formation: Formation) -> Formation:
         """``formation`` with its light moved to ``light_bearing_deg`` (at its distance), or

@@ -36,9 +36,7 @@ from qdsega.training.config import TrainingConfig
 from qdsega.training.run_folder import RunFolder
 
 if TYPE_CHECKING:
-    from qdsega.locomotion.env import LocomotionEnv
     from qdsega.locomotion.exact_trials import ExactTrials
-    from qdsega.simulation.camera import CameraConfig
 
 _NUMBERS = re.compile(r" by -?[\d.]+ deg| \(tilt -?[\d.]+ deg\)")
 """The measured part of a failure message, left out where failures are counted by kind."""
@@ -309,11 +307,12 @@ def build_sim(
         optimum = msm_optimum(model, steps=task.trial_steps, light_xy=tuple(task.light))
         return TrainingSim(model, None, None, task, optimum, layout)
     layout = LegLayout.from_formation(formation) if formation.legs else None
-    from qdsega.locomotion.env_world import EnvWorld  # starts PyBullet: only when needed
+    from qdsega.locomotion.env import rules_env  # starts PyBullet: only when needed
+    from qdsega.locomotion.env_world import EnvWorld
 
     if config.sim == "pybullet":
         return TrainingSim(
-            EnvWorld(env=exact_env(formation, config)), None, None, task, None, layout
+            EnvWorld(env=rules_env(formation, config.rules)), None, None, task, None, layout
         )
     from qdsega.locomotion.exact_trials import ExactTrials
     from qdsega.locomotion.memo import MeasuredTransitions
@@ -337,13 +336,7 @@ def build_sim(
         learning.temperature_rate,
         learning.temperature_offset,
     )
-    exact = ExactTrials(
-        formation=formation,
-        task=config.task,
-        lower_agent=config.lower_agent,
-        physics=config.physics,
-        workers=config.workers,
-    )
+    exact = ExactTrials(formation=formation, rules=config.rules, workers=config.workers)
     return TrainingSim(
         provider,
         exact,
@@ -356,23 +349,6 @@ def build_sim(
         local_search=config.local_search,
         phase_moves=config.phase_moves,
         seed=config.seed,
-    )
-
-
-def exact_env(
-    formation: Formation, config: TrainingConfig, *, camera: CameraConfig | None = None
-) -> LocomotionEnv:
-    """The run's exact-physics environment: its task, lower agent and physics; rendering
-    through ``camera`` when given."""
-    from qdsega.locomotion.env import LocomotionEnv  # starts PyBullet: only when needed
-
-    return LocomotionEnv(
-        formation=formation,
-        task=config.task,
-        lower_agent=config.lower_agent,
-        physics=config.physics,
-        render_mode=None if camera is None else "rgb_array",
-        camera=camera,
     )
 
 

@@ -17,6 +17,7 @@ from qdsega.description import Light, load_formation
 from qdsega.description.shipped import ASSEMBLIES_DIR
 from qdsega.locomotion.env import LocomotionEnv, replay_postures
 from qdsega.locomotion.lower_agent import LowerAgentConfig
+from qdsega.locomotion.rules import ExactRules
 from qdsega.progress import ProgressLine
 from qdsega.simulation import PhysicsSettings
 from qdsega.task import TaskConfig
@@ -26,13 +27,9 @@ pytestmark = pytest.mark.slow  # end to end: make test-fast leaves it out
 
 SNAKE = load_formation(ASSEMBLIES_DIR / "snake5.yaml")
 STEPS = 6
-RULES = {
-    "task": TaskConfig(trial_steps=STEPS),
-    "lower_agent": LowerAgentConfig(),
-    "physics": PhysicsSettings(),
-}
+RULES = ExactRules(task=TaskConfig(trial_steps=STEPS))
 ONE_GENERATION = 11  # CMA-ES's population for snake5's 13 coordinates
-QUICK = RULES | {"task": TaskConfig(trial_steps=2)}  # for the cache: any result will do
+QUICK = ExactRules(task=TaskConfig(trial_steps=2))  # for the cache: any result will do
 
 
 @pytest.fixture(autouse=True)
@@ -57,7 +54,7 @@ def searches(monkeypatch):
     return calls
 
 
-def _replay(formation, postures, task=RULES["task"]):
+def _replay(formation, postures, task=RULES.task):
     """Distance (m) and failure of a posture sequence in the env learning uses."""
     env = LocomotionEnv(formation=formation, task=task)
     try:
@@ -68,7 +65,7 @@ def _replay(formation, postures, task=RULES["task"]):
 
 
 def test_the_search_beats_a_bad_gait_and_depends_on_the_seed_only(searches):
-    result = reference_gait(SNAKE, **RULES, budget_trials=3 * ONE_GENERATION, workers=2)
+    result = reference_gait(SNAKE, rules=RULES, budget_trials=3 * ONE_GENERATION, workers=2)
     # Bad gaits: standing still, and a standing wave (every joint in phase) that goes nowhere.
     n = len(SNAKE.joints)
     standing_wave = CPGGait(
@@ -92,11 +89,13 @@ def test_the_search_beats_a_bad_gait_and_depends_on_the_seed_only(searches):
     assert list(result.history_m) == sorted(result.history_m)
     assert result.history_m[-1] == result.distance_m
     # One worker, no cache: the same gait, trial for trial.
-    again = reference_gait(SNAKE, **RULES, budget_trials=3 * ONE_GENERATION, workers=1, cache=False)
+    again = reference_gait(
+        SNAKE, rules=RULES, budget_trials=3 * ONE_GENERATION, workers=1, cache=False
+    )
     assert again.params == result.params and again.history_m == result.history_m
     assert again.file is None
     other = reference_gait(
-        SNAKE, **RULES, budget_trials=ONE_GENERATION, seed=1, workers=1, cache=False
+        SNAKE, rules=RULES, budget_trials=ONE_GENERATION, seed=1, workers=1, cache=False
     )
     assert other.history_m[0] != result.history_m[0]  # another seed, another first generation
     assert len(searches) == 3
@@ -104,7 +103,7 @@ def test_the_search_beats_a_bad_gait_and_depends_on_the_seed_only(searches):
 
 def test_a_legged_reference_never_fails():
     quadruped = load_formation(ASSEMBLIES_DIR / "quadruped.yaml")
-    result = reference_gait(quadruped, **RULES, budget_trials=13, workers=1, cache=False)
+    result = reference_gait(quadruped, rules=RULES, budget_trials=13, workers=1, cache=False)
     distance, failure = _replay(quadruped, result.postures)
     assert failure is None
     assert distance == pytest.approx(result.distance_m, abs=1e-9)
@@ -112,18 +111,20 @@ def test_a_legged_reference_never_fails():
 
 def test_the_key_changes_with_every_input_and_nothing_else(write_formation, monkeypatch):
     text = (ASSEMBLIES_DIR / "snake5.yaml").read_text(encoding="utf-8")
-    base = reference_key(SNAKE, **RULES)
+    base = reference_key(SNAKE, rules=RULES)
     assert len(base) == 64
-    assert reference_key(load_formation(write_formation(text, "copy")), **RULES) == base
+    assert reference_key(load_formation(write_formation(text, "copy")), rules=RULES) == base
     assert (
-        reference_key(SNAKE, **RULES, budget_trials=reference_search.DEFAULT_BUDGET_TRIALS) == base
+        reference_key(SNAKE, rules=RULES, budget_trials=reference_search.DEFAULT_BUDGET_TRIALS)
+        == base
     )
     # An open-loop gait earns no reward: the reward's unit and the penalty are not inputs.
     rewarded = TaskConfig(trial_steps=STEPS, distance_unit_m=0.01, penalty=-5.0)
-    assert reference_key(SNAKE, **(RULES | {"task": rewarded})) == base
+    assert reference_key(SNAKE, rules=dataclasses.replace(RULES, task=rewarded)) == base
 
     def key(formation=SNAKE, **change):
-        return reference_key(formation, **(RULES | change))
+        search = {k: change.pop(k) for k in ("budget_trials", "seed") if k in change}
+        return reference_key(formation, rules=dataclasses.replace(RULES, **change), **search)
 
     variants = {
         "levels": key(load_formation(write_formation(text.replace("step: 5", "step: 10"), "a"))),
@@ -149,14 +150,14 @@ def test_the_key_changes_with_every_input_and_nothing_else(write_formation, monk
 
 
 def test_a_cached_result_is_reused_without_simulating(searches, user_cache):
-    first = reference_gait(SNAKE, **QUICK, budget_trials=ONE_GENERATION, workers=1)
+    first = reference_gait(SNAKE, rules=QUICK, budget_trials=ONE_GENERATION, workers=1)
     assert first.file is not None and first.file.parent == user_cache
     stored = json.loads(first.file.read_text(encoding="utf-8"))
     assert stored["key"] == first.key
     assert stored["inputs"]["trial_steps"] == 2
     assert stored["inputs"]["search"]["budget_trials"] == ONE_GENERATION
     assert stored["postures"] == first.postures.tolist()
-    second = reference_gait(SNAKE, **QUICK, budget_trials=ONE_GENERATION, workers=2)
+    second = reference_gait(SNAKE, rules=QUICK, budget_trials=ONE_GENERATION, workers=2)
     assert len(searches) == 1
     for field in dataclasses.fields(first):
         a, b = getattr(first, field.name), getattr(second, field.name)
@@ -164,12 +165,12 @@ def test_a_cached_result_is_reused_without_simulating(searches, user_cache):
 
 
 def test_a_shipped_reference_comes_before_the_user_cache(searches, user_cache, tmp_path):
-    first = reference_gait(SNAKE, **QUICK, budget_trials=ONE_GENERATION, workers=1)
+    first = reference_gait(SNAKE, rules=QUICK, budget_trials=ONE_GENERATION, workers=1)
     shipped = tmp_path / "shipped"
     shipped.mkdir()
     (shipped / first.file.name).write_bytes(first.file.read_bytes())
     first.file.unlink()
-    found = reference_gait(SNAKE, **QUICK, budget_trials=ONE_GENERATION, workers=1)
+    found = reference_gait(SNAKE, rules=QUICK, budget_trials=ONE_GENERATION, workers=1)
     assert found.file == shipped / first.file.name
     assert found.params == first.params
     assert len(searches) == 1
@@ -185,16 +186,16 @@ def test_a_shipped_reference_comes_before_the_user_cache(searches, user_cache, t
     ids=["truncated", "postures not the gait's", "another key"],
 )
 def test_a_corrupt_cache_file_is_recomputed(searches, capsys, spoil):
-    first = reference_gait(SNAKE, **QUICK, budget_trials=ONE_GENERATION, workers=1)
+    first = reference_gait(SNAKE, rules=QUICK, budget_trials=ONE_GENERATION, workers=1)
     first.file.write_text(spoil(first.file.read_text(encoding="utf-8")), encoding="utf-8")
     capsys.readouterr()
-    second = reference_gait(SNAKE, **QUICK, budget_trials=ONE_GENERATION, workers=1)
+    second = reference_gait(SNAKE, rules=QUICK, budget_trials=ONE_GENERATION, workers=1)
     warning = capsys.readouterr().err
     assert warning.count("\n") == 1 and "corrupt reference" in warning
     assert str(first.file) in warning
     assert len(searches) == 2
     assert second.params == first.params
-    reference_gait(SNAKE, **QUICK, budget_trials=ONE_GENERATION, workers=1)  # rewritten whole
+    reference_gait(SNAKE, rules=QUICK, budget_trials=ONE_GENERATION, workers=1)  # rewritten whole
     assert len(searches) == 2
 
 
@@ -206,7 +207,7 @@ def test_a_search_shows_trials_of_the_budget_and_the_best_so_far(capsys):
         return ProgressLine(label, total, stream=stream, every_s=0.0)  # every iteration
 
     budget = 2 * ONE_GENERATION + 3  # the search stops at 22 of 25: the last line still shows
-    found = reference_gait(SNAKE, **QUICK, budget_trials=budget, workers=1, progress=factory)
+    found = reference_gait(SNAKE, rules=QUICK, budget_trials=budget, workers=1, progress=factory)
     assert made == [("reference search", budget)]
     lines = stream.getvalue().splitlines()
     assert [line.split(":")[0] for line in lines] == [
@@ -214,17 +215,17 @@ def test_a_search_shows_trials_of_the_budget_and_the_best_so_far(capsys):
         "reference search 22/25",
     ]
     assert lines[-1].startswith(f"reference search 22/25: best {found.distance_m:.3f} m, elapsed ")
-    reference_gait(SNAKE, **QUICK, budget_trials=budget, workers=1, progress=factory)
+    reference_gait(SNAKE, rules=QUICK, budget_trials=budget, workers=1, progress=factory)
     assert len(made) == 1  # cached: no search, no line
-    reference_gait(SNAKE, **QUICK, budget_trials=budget, workers=1, cache=False)
+    reference_gait(SNAKE, rules=QUICK, budget_trials=budget, workers=1, cache=False)
     assert capsys.readouterr().err == ""  # no factory: silent
 
 
 def test_bad_settings_are_refused():
     with pytest.raises(ValueError, match="one CMA-ES generation"):
-        reference_gait(SNAKE, **RULES, budget_trials=ONE_GENERATION - 1)
+        reference_gait(SNAKE, rules=RULES, budget_trials=ONE_GENERATION - 1)
     with pytest.raises(ValueError, match="workers"):
-        reference_gait(SNAKE, **RULES, workers=0)
+        reference_gait(SNAKE, rules=RULES, workers=0)
 
 
 def test_no_completed_trial_is_an_error():
@@ -232,7 +233,7 @@ def test_no_completed_trial_is_an_error():
     with pytest.raises(ValueError, match="completed"):
         reference_gait(
             SNAKE,
-            **(QUICK | {"lower_agent": blocked}),
+            rules=dataclasses.replace(QUICK, lower_agent=blocked),
             budget_trials=ONE_GENERATION,
             workers=1,
             cache=False,
@@ -250,9 +251,7 @@ def test_every_shipped_formation_ships_its_reference_under_the_presets_rules(nam
     config = resolve_config()
     key = reference_key(
         load_formation(ASSEMBLIES_DIR / f"{name}.yaml"),
-        task=config.task,
-        lower_agent=config.lower_agent,
-        physics=config.physics,
+        rules=config.rules,
     )
     assert (SHIPPED / f"{name}-{key[:16]}.json").is_file(), f"stale or missing: {name}"
 

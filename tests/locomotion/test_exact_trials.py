@@ -7,8 +7,7 @@ import pytest
 from qdsega.agent.policy import BoltzmannPolicy, GreedyPolicy, SequencePolicy
 from qdsega.description import load_formation, resolve_formation
 from qdsega.locomotion.exact_trials import ExactTrials
-from qdsega.locomotion.lower_agent import LowerAgentConfig
-from qdsega.simulation import PhysicsSettings
+from qdsega.locomotion.rules import ExactRules
 from qdsega.task import TaskConfig
 
 
@@ -31,9 +30,7 @@ def test_trials_in_workers_equal_trials_here_in_order():
         ] + [greedy, SequencePolicy(commands=sequences[0])]  # new generators, policies each time
         with ExactTrials(
             formation=formation,
-            task=TaskConfig(trial_steps=5),
-            lower_agent=LowerAgentConfig(),
-            physics=PhysicsSettings(),
+            rules=ExactRules(task=TaskConfig(trial_steps=5)),
             workers=workers,
         ) as trials:
             rollouts = trials.rollouts(policies, steps=5)
