@@ -20,6 +20,14 @@ from qdsega.description.shipped import ASSEMBLIES_DIR, UNITS_DIR
 
 SHIPPED_FORMATIONS = sorted(ASSEMBLIES_DIR.glob("*.yaml"))
 SHIPPED_UNITS = sorted(p for p in UNITS_DIR.iterdir() if p.is_dir() and p.name != "__pycache__")
+TINY_TRAINING = """\
+workers: 1
+agent:
+  learning: {trials: 20}
+  genetic: {population: 6}
+task: {trial_steps: 4}
+"""
+"""A --config file for training runs a test can afford (seconds)."""
 
 
 def run_cli(

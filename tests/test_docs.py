@@ -7,18 +7,11 @@ import shlex
 from pathlib import Path
 
 import pytest
-from helpers import run_cli
+from helpers import TINY_TRAINING, run_cli
 
 pytestmark = pytest.mark.slow  # end to end: make test-fast leaves it out
 
 GUIDE = Path(__file__).resolve().parents[1] / "docs" / "formations.md"
-TINY = """\
-workers: 1
-agent:
-  learning: {trials: 20}
-  genetic: {population: 6}
-task: {trial_steps: 4}
-"""
 
 
 def _section(title: str) -> str:
@@ -33,7 +26,7 @@ def test_worked_example_runs_as_written(tmp_path):
     commands = re.search(r"```bash\n(.*?)```", section, re.S).group(1)
     (tmp_path / "assemblies").mkdir()
     (tmp_path / "assemblies" / "my_snake.yaml").write_text(formation)
-    (tmp_path / "tiny.yaml").write_text(TINY)
+    (tmp_path / "tiny.yaml").write_text(TINY_TRAINING)
     for line in commands.splitlines():
         line = line.split("#")[0].strip()
         if line.startswith("printf"):

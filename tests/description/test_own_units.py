@@ -8,6 +8,7 @@ import textwrap
 from pathlib import Path
 
 import pytest
+from helpers import TINY_TRAINING
 
 from qdsega.cli import main
 from qdsega.description import load_formation
@@ -22,13 +23,6 @@ units:
   - {name: head, unit: servo}
   - {name: mid, unit: heavy_servo, parent: head, connector: back, axis: yaw, levels_deg: [-20, 20]}
   - {name: tail, unit: servo, parent: mid, connector: back, axis: yaw, levels_deg: [-20, 0, 20]}
-"""
-TINY = """\
-workers: 1
-agent:
-  learning: {trials: 20}
-  genetic: {population: 6}
-task: {trial_steps: 4}
 """
 
 
@@ -52,7 +46,7 @@ def test_own_and_shipped_unit_types_assemble_train_and_evaluate(mixed, tmp_path,
     masses = {u.name: u.unit_type.mass_kg for u in formation.units}
     assert masses == {"head": 0.15, "mid": 0.3, "tail": 0.15}
     assert main(["assemble", str(mixed), "-o", str(tmp_path / "mixed.urdf")]) == 0
-    (tmp_path / "tiny.yaml").write_text(TINY)
+    (tmp_path / "tiny.yaml").write_text(TINY_TRAINING)
     run = tmp_path / "run"
     args = ["train", str(mixed), "--sim", "memo", "--preset", "paper-snake", "--generations",
             "1", "--config", str(tmp_path / "tiny.yaml"), "--out", str(run), "--quiet"]  # fmt: skip
