@@ -5,7 +5,7 @@ A grid file (``GRID.yaml``)::
     formations: [snake5, quadruped]   # shipped names or files (relative to GRID.yaml)
     seeds: [0, 1, 2]                  # default [0]
     sim: memo                         # default memo
-    presets: [memo-legged]            # default: each formation's README preset
+    presets: [memo-legged]            # default: each formation's own (default_preset)
     configs:                          # named settings over the preset (keys as in config.yaml)
       default: {}
       short: {agent: {genetic: {generations: 5}}}

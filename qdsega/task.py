@@ -39,19 +39,13 @@ class TaskConfig:
 
     Attributes:
         trial_steps: upper-agent steps (postures commanded) per trial unless the lower agent
-            fails first (-). 30 (open): ten cycles of the best MSM gait (every leg strokes
-            every third step), so that a trial's distance is decided by the gait more than by
-            how it starts: stepping straight from the start posture into the best gait covers
-            0.961 of the optimum at 20 steps and 0.966 at 30, but the same gait entered one
-            force unit worse drops to 0.948 at 20 steps and 0.958 at 30.
+            fails first (-). 30 (open): ten cycles of the best MSM gait, so that a trial's
+            distance is decided by the gait more than by how it starts (docs/algorithm.md).
         reward_scale: the 100 of eq. (17) (-).
         distance_unit_m: the unit ``d`` of eq. (17) is measured in (m). The paper leaves it
-            open; it sets how hot eq. (18)'s temperature is against the rewards, and each
-            preset chooses it by measurement (``qdsega/agent/README.md``): metres for the
-            legged presets (10000 trials cool T from 408 to 1e-6; a step of the MSM's best
-            gait earns 8), centimetres for the snake preset (1000 trials cool T only to 55;
-            in metres a snake5 step earns about 2, the roulette stays uniform and the GA
-            drifts; in centimetres it earns about 200).
+            open; it sets how hot eq. (18)'s temperature is against the rewards: metres for
+            the legged presets, centimetres for the snake preset, whose 1000 trials cool the
+            temperature too little for rewards in metres (docs/algorithm.md).
         penalty: reward of a step whose posture the lower agent failed to reach (-).
         exterior_bin_edges_deg: edges of the bins of the angle to the light, strictly
             increasing (deg); state 0 is "outside", so there are as many states as edges.

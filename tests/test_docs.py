@@ -1,4 +1,5 @@
-"""The worked example of docs/formations.md runs as written, on a tiny budget."""
+"""The docs' examples run as written: the worked example of docs/formations.md (on a tiny
+budget) and every Python snippet of the README and docs/gymnasium.md."""
 
 from __future__ import annotations
 
@@ -11,7 +12,8 @@ from helpers import TINY_TRAINING, run_cli
 
 pytestmark = pytest.mark.slow  # end to end: make test-fast leaves it out
 
-GUIDE = Path(__file__).resolve().parents[1] / "docs" / "formations.md"
+ROOT = Path(__file__).resolve().parents[1]
+GUIDE = ROOT / "docs" / "formations.md"
 
 
 def _section(title: str) -> str:
@@ -46,3 +48,13 @@ def test_worked_example_runs_as_written(tmp_path):
     assert (run / "evaluation.json").is_file() and (run / "learning_curve.png").is_file()
     assert (tmp_path / "wave.gif").stat().st_size > 1000
     assert "my_snake" in (tmp_path / "out" / "my_snake.urdf").read_text()
+
+
+@pytest.mark.parametrize("page", ["README.md", "docs/gymnasium.md"])
+def test_python_snippets_run_as_written(page, tmp_path, monkeypatch):
+    monkeypatch.chdir(ROOT)  # snippets name files of the checkout (assemblies/...)
+    snippets = re.findall(r"```python\n(.*?)```", (ROOT / page).read_text(), re.S)
+    assert snippets, page
+    namespace = {"__name__": "snippet"}  # a page's snippets go on from one another
+    for snippet in snippets:
+        exec(compile(snippet, page, "exec"), namespace)

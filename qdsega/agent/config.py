@@ -1,7 +1,7 @@
 """Every hyperparameter of QDSEGA, in one typed configuration, and the paper's presets.
 
 Values the paper gives (section 4) are marked "paper"; the others are choices it leaves open,
-each explained in the field's documentation and in ``qdsega/agent/README.md``.
+each explained in the field's documentation and in docs/algorithm.md.
 """
 
 from __future__ import annotations
@@ -37,14 +37,14 @@ class LearningConfig:
             rewards are large against eq. (18)'s temperature, as in centimetres on a snake
             (carried values of about 3000 against T = 55-408), an action at 0 has a weight of
             e^-7 to e^-50 against the carried best and is never drawn, whatever the table
-            says of it (``qdsega/agent/README.md``).
+            says of it (docs/algorithm.md).
         imitate_elite: on a transition table, before each generation learns, raise Q along
             the path of the best verified trial (the elite, often the local search's
             open-loop gait) to the discounted return the table gives it, so that the
             learner takes that path wherever it knows nothing better (self-imitation,
             :mod:`qdsega.agent.imitation`; open: False is the paper's learner, True in
-            ``paper-snake``: on snake5, seeds 0-4, the median exact distance rose from 1.77
-            to 1.94 m and the worst seed from 1.38 to 1.67 m, ``qdsega/agent/README.md``).
+            ``paper-snake``, where the roulette alone rarely strings a gait together;
+            docs/algorithm.md).
 
     The task the learner is rewarded for (trial length, eq. (17), penalty, exterior states)
     is :class:`qdsega.task.TaskConfig`.
@@ -95,8 +95,8 @@ class FitnessConfig:
             ten times the largest fit_Q, and the gait's postures, each used in about a third
             of the greedy steps, are kept in proportion to their use. fit_Q (at most 1)
             still ranks the actions that were only tried while eq. (18) was hot, i.e. decides
-            which of them stay as material for crossover. Screens with 30 and 100 did worse
-            (``qdsega/agent/README.md``, "What we tried").
+            which of them stay as material for crossover (30 and 100 did worse;
+            docs/algorithm.md).
     """
 
     p: float = 0.1
@@ -141,8 +141,7 @@ class GeneticConfig:
             runs on a table) back into every later population that lost them, each in place
             of a copy of the most copied phenotype (open; True: a learner on a table that
             overrates other moves would otherwise breed away a gait that exact physics has
-            shown to walk, and its learning curve falls below its own first generation;
-            ``qdsega/agent/README.md``).
+            shown to walk, and its learning curve falls below its own first generation).
         reproduce: reproduce the population after each generation (paper: True); False
             keeps the random population drawn at the start for the whole run, the ablation
             "Q-learning over a fixed random set of postures" that shows what the GA adds.
@@ -214,10 +213,9 @@ PRESETS: dict[str, Preset] = {
 """Section 4's settings: 4.1.3 (multi-legged robot) and 4.2.3 (snake-like robot, with new
 actions starting at their state's best carried value: in its centimetres an untried action at 0
 is never drawn; and with self-imitation of the best verified trial, which the roulette alone
-rarely strings together; both measured in ``qdsega/agent/README.md``); and
-``memo-legged``, the legged settings with 40 individuals and 30 generations, for legged bodies
-in PyBullet: the paper's 200 x 200 would measure about 283,000 transitions of legged12 (hours
-on two cores); this measured 6,138 in 6.5 minutes (seed 0, two workers)."""
+rarely strings together; docs/algorithm.md); and ``memo-legged``, the legged settings with 40
+individuals and 30 generations, for legged bodies in PyBullet, where the paper's 200 x 200
+would measure hours of transitions on two cores."""
 
 
 def with_budget(

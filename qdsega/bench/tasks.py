@@ -8,7 +8,7 @@ budget; with the yardstick each method's distance is measured against.
   shipped CMA-ES reference gait (:func:`qdsega.baselines.reference_search.reference_gait`,
   600 trials): not an optimum, the best gait known.
 
-Every task uses its formation's README preset (:func:`qdsega.training.config.default_preset`)
+Every task uses its formation's own preset (:func:`qdsega.training.config.default_preset`)
 for the rules: levels, lower agent, trial length, reward eq. (17), penalty.
 """
 
@@ -77,7 +77,7 @@ class BenchTask:
         learning: dict[str, Any] | None = None,
         genetic: dict[str, Any] | None = None,
     ) -> TrainingConfig:
-        """QDSEGA's training configuration: the README preset with this task's budget and one
+        """QDSEGA's training configuration: the body's own preset with this task's budget and one
         worker, then ``learning`` and ``genetic`` settings (keys as in ``config.yaml``)."""
         sim = LEARNING_SIM[self.sim]
         genes: dict[str, Any] = {"generations": self.generations, **(genetic or {})}

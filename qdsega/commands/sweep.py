@@ -17,7 +17,9 @@ HELP = (
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("grid", type=Path, metavar="GRID.yaml", help="the grid (see the README)")
+    parser.add_argument(
+        "grid", type=Path, metavar="GRID.yaml", help="the grid (see docs/commands.md)"
+    )
     parser.add_argument(
         "--out", type=Path, metavar="DIR", help="where the runs and the table go (default "
         "runs/GRID)"

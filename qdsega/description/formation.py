@@ -1,7 +1,7 @@
 """Formations: a robot as a tree of units, the validated data model.
 
 ``formation_reader.load_formation`` reads one from YAML; see ``assemblies/*.yaml`` for worked
-examples and the README for every key.
+examples and docs/formations.md for every key.
 """
 
 from __future__ import annotations

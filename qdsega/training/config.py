@@ -78,19 +78,17 @@ class TrainingConfig:
             generation, the greedy policy of a further learning phase on the table whose
             unobserved forward moves are the measured ones plus ``optimism`` times the RMS
             gap between measured and observed moves (an upper confidence bound), so that
-            exact physics tries what the table may underrate; 0 for none (-). 1.0: on snake5
-            it found gaits the greedy policy then kept, and the greedy replay stayed within
-            10 % of its prediction in 29 of 30 generations; 3.0 found the same gaits but the
-            greedy policy strayed more (21 of 30; ``qdsega/agent/README.md``).
+            exact physics tries what the table may underrate; 0 for none (-). 1.0: it finds
+            gaits the greedy policy then keeps, with less straying than 3.0
+            (docs/algorithm.md).
         local_search: memo mode: neighbours of the best exact trial so far replayed with
             exact physics each generation, the best one's postures kept in the population
-            (:class:`qdsega.training.sims.TrainingSim`); 0 for none (-). 10: on snake5
-            (5 seeds) the median exact distance rose from 1.30 to 1.38 m and the worst seed
-            from 0.85 to 1.33 m, for about twice the wall time (``qdsega/agent/README.md``).
+            (:class:`qdsega.training.sims.TrainingSim`); 0 for none (-). 10: it lifts the
+            worst seeds most, for about twice the wall time (docs/algorithm.md).
         phase_moves: the share of local-search neighbours that shift one joint's commands one
             step in time instead of moving one level (:func:`qdsega.agent.genetic.vary_gait`),
-            in [0, 1] (-). 0: every neighbour a level move (0.5 was mixed on two snake5 seeds,
-            ``qdsega/agent/README.md``, design P).
+            in [0, 1] (-). 0: every neighbour a level move (0.5 measured mixed;
+            docs/algorithm.md).
     """
 
     preset: str = DEFAULT_PRESET

@@ -37,13 +37,9 @@ _CLASSES = ("matched", "dropped", "locked", "added")
 KEPT_SHARE = 0.5
 """Share of a warm-started population drawn from the old run's; the rest is random (-).
 
-A changed body needs postures its old gait never used, and a converged population holds few
-(the last 40 individuals of quadruped seed 1: 15 postures, 11 once its back right leg is
-gone); at the legged presets' mutation rate (0.001 per character) new ones arrive slowly.
-Measured on ``quadruped_tripod`` warm-started from quadruped runs (seeds 0-2, memo-legged):
-with the whole population mapped, 2 of 3 seeds never reached 0.9 of a fresh run's final
-distance and ended at 0.356 and 0.353 m (fresh: 0.529, 0.495 m); with half, every seed
-reached it and ended at 0.652, 0.532 and 0.529 m (the README's "Reconfiguration")."""
+A changed body needs postures its old gait never used, and a converged population holds few;
+half keeps what the old body knew and leaves room for what the new one needs (measured:
+docs/notes/2026-12-01-reconfiguration.md)."""
 
 
 @dataclass(frozen=True)
