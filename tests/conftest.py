@@ -45,3 +45,22 @@ def _reference_cache(tmp_path_factory: pytest.TempPathFactory) -> None:
     """Searched reference gaits go to a scratch cache, not the user's (subprocesses inherit
     it through the environment)."""
     os.environ["QDSEGA_CACHE"] = str(tmp_path_factory.mktemp("qdsega-cache"))
+
+
+@pytest.fixture(scope="session")
+def tiny_run(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """A finished, evaluated run (snake5 in memo mode, seconds of training), made once per test
+    process; copy it (:func:`shutil.copytree`) before changing it."""
+    from helpers import TINY_TRAINING, run_cli
+
+    folder = tmp_path_factory.mktemp("tiny-run")
+    (folder / "tiny.yaml").write_text(TINY_TRAINING)
+    run = folder / "snake5"
+    trained = run_cli(
+        "train", "snake5", "--sim", "memo", "--generations", "1",
+        "--config", folder / "tiny.yaml", "--out", run, "--quiet",
+    )  # fmt: skip
+    assert trained.returncode == 0, trained.stderr
+    evaluated = run_cli("evaluate", run, "--reference-trials", "0")
+    assert evaluated.returncode == 0, evaluated.stderr
+    return run
