@@ -47,7 +47,7 @@ class ProgressDisplay:
             f"({report.q_entries} entries), {report.steps_per_s:,.0f} steps/s"
         )
         if failed.kinds:
-            facts += f", {failed.share:.0%} of commands failed ({failed.most_common})"
+            facts += f", {failed.share:.1%} of commands failed ({failed.most_common})"
         if self._bar is not None:
             self._bar.set_postfix_str(facts, refresh=False)
             self._bar.update(1)

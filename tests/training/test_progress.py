@@ -59,6 +59,6 @@ def test_failed_commands_are_counted_and_named():
     display.start(completed=1, generations=4)
     failed = Failures(commands=8, trials=5, kinds={"trunk touched the ground": 2})
     display.generation(_report(2), failed)
-    assert "1,500 steps/s, 25% of commands failed (trunk touched the ground), elapsed" in (
+    assert "1,500 steps/s, 25.0% of commands failed (trunk touched the ground), elapsed" in (
         stream.getvalue()
     )
