@@ -40,8 +40,8 @@ from qdsega.training.run_lock import run_lock
 from qdsega.training.sims import Failures, TrainingSim, build_sim, check_sim, leg_states
 
 HOPELESS_SHARE = 0.9
-"""A generation whose verified trials failed at least this often warns once: the body may
-not be able to move at all."""
+"""A generation whose verified trials' commands failed at least this often (nearly every trial
+failing at its first command) warns once: the body may not be able to move at all."""
 _SIM_STEPS = METRIC_COLUMNS.index("sim_steps")
 _GREEDY_EXACT = METRIC_COLUMNS.index("greedy_exact_m")
 
@@ -325,7 +325,7 @@ def _run(
                     save_checkpoint(out, checkpoint)
                     folder.write_metrics(checkpoint.metrics)
                     failed = sim.failures.since(before)
-                    if failed.trial_share >= HOPELESS_SHARE and not warned:
+                    if failed.share >= HOPELESS_SHARE and not warned:
                         warned = True
                         warnings.warn(_hopeless(failed, generation.index), QdsegaWarning, 2)
                     if progress is not None:
@@ -504,9 +504,9 @@ def _record_handed_on(folder: RunFolder, trial: Rollout) -> None:
 def _hopeless(failed: Failures, generation: int) -> str:
     """The one-line warning for a generation whose verified trials nearly all failed."""
     return (
-        f"{failed.trial_share:.0%} of generation {generation}'s verified trials failed, most "
-        f"often: {failed.most_common}; if the body cannot move, `qdsega assemble` checks "
-        "whether its joints reach their levels"
+        f"{failed.share:.0%} of the commands of generation {generation}'s verified trials "
+        f"failed, most often: {failed.most_common}; the body may not be able to move (`qdsega "
+        "assemble` checks that its joints reach their levels)"
     )
 
 

@@ -60,11 +60,6 @@ class Failures:
         return sum(self.kinds.values()) / self.commands if self.commands else 0.0
 
     @property
-    def trial_share(self) -> float:
-        """Failed trials over trials."""
-        return sum(self.kinds.values()) / self.trials if self.trials else 0.0
-
-    @property
     def most_common(self) -> str | None:
         """The commonest kind of failure (the first of equals), or None."""
         return max(self.kinds, key=self.kinds.__getitem__) if self.kinds else None

@@ -9,6 +9,7 @@ import math
 import numpy as np
 import pytest
 import yaml
+from helpers import TINY_TRAINING, run_cli
 
 from qdsega.description.shipped import ASSEMBLIES_DIR
 
@@ -52,3 +53,31 @@ def test_ray_outside_memo_mode_is_refused_before_anything_is_written(tmp_path, c
     assert result.returncode == 2
     assert "--ray measures memo transitions: it goes with --sim memo" in result.stderr
     assert not (tmp_path / "r").exists()
+
+
+@pytest.mark.slow
+def test_a_body_that_cannot_move_says_why(project, tmp_path):
+    """Servos too weak to hold the body up: every verified trial fails at its first command,
+    the progress line and summary.json say how, and train warns once."""
+    weak = project / "units" / "weak_servo"
+    (project / "units" / "servo").rename(weak)
+    unit = weak / "unit.yaml"
+    unit.write_text(unit.read_text().replace("effort_nm: 2.5", "effort_nm: 0.02"))
+    text = (
+        (ASSEMBLIES_DIR / "quadruped.yaml").read_text().replace("unit: servo", "unit: weak_servo")
+    )
+    formation = project / "assemblies" / "weak.yaml"
+    formation.write_text(text + "units_dir: ../units\n")
+    (tmp_path / "tiny.yaml").write_text(TINY_TRAINING)
+    run = tmp_path / "run"
+    result = run_cli(
+        "train", formation, "--sim", "memo", "--generations", "2",
+        "--config", tmp_path / "tiny.yaml", "--out", run,
+    )  # fmt: skip
+    assert result.returncode == 0, result.stderr
+    warnings = [line for line in result.stderr.splitlines() if "warning:" in line]
+    assert len(warnings) == 1 and "may not be able to move" in warnings[0]
+    assert "100.0% of commands failed (trunk touched the ground)" in result.stderr
+    summary = json.loads((run / "summary.json").read_text())
+    assert summary["failed_commands_share"] == 1.0
+    assert summary["most_common_failure"] == "trunk touched the ground"

@@ -114,7 +114,7 @@ def test_failures_are_counted_by_kind_without_their_numbers():
     assert failures.kinds == {"joint BL_swing_joint missed its level": 2, "body flipped": 1}
     assert failures.most_common == "joint BL_swing_joint missed its level"
     assert (failures.commands, failures.trials) == (8, 4)
-    assert failures.share == 3 / 8 and failures.trial_share == 3 / 4
+    assert failures.share == 3 / 8
     later = failures.add([_trial(1, "body flipped (tilt 120 deg)")])
     assert later.since(failures) == Failures(1, 1, {"body flipped": 1})
 
