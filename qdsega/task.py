@@ -115,6 +115,16 @@ class Task:
         """Eq. (17) for a successful step from ``before`` to ``after`` (-)."""
         return step_reward(self.distance(before), self.distance(after), self.config.reward_per_m)
 
+    def move(
+        self, pose: Pose, dx: float, dy: float, dtheta: float, failed: bool
+    ) -> tuple[Pose, float]:
+        """One table step: a body-frame move from ``pose``, or a failure (the pose stays);
+        the new pose and the step's reward (eq. 17, or the penalty)."""
+        if failed:
+            return pose, self.penalty
+        after = move_pose(*pose, dx, dy, dtheta)
+        return after, self.reward(pose, after)
+
     def exterior(self, pose: Pose) -> int:
         """Exterior state of a pose."""
         return exterior_state(pose[0], pose[1], pose[2], self.light[0], self.light[1], self.edges)

@@ -11,7 +11,7 @@ import numpy as np
 
 from qdsega.agent.space import ExplorationSpace
 from qdsega.agent.world import StepResult, Transitions
-from qdsega.task import Pose, Task, move_pose
+from qdsega.task import Pose, Task
 
 
 class TableWorld:
@@ -53,14 +53,10 @@ class TableWorld:
         dx, dy, dtheta, failed, self._node = self.table.move(
             self._node, self._previous, self._interior, a
         )
-        if failed:
-            return StepResult(self.task.penalty, self.task.exterior(self._pose), True)
-        before = self._pose
-        self._pose = move_pose(*before, dx, dy, dtheta)
-        self._previous, self._interior = self._interior, int(self.space.next_interior[a])
-        return StepResult(
-            self.task.reward(before, self._pose), self.task.exterior(self._pose), False
-        )
+        self._pose, reward = self.task.move(self._pose, dx, dy, dtheta, failed)
+        if not failed:
+            self._previous, self._interior = self._interior, int(self.space.next_interior[a])
+        return StepResult(reward, self.task.exterior(self._pose), failed)
 
     def distance_covered(self) -> float:
         return self.task.covered((0.0, 0.0, 0.0), self._pose)

@@ -41,15 +41,12 @@ import numpy as np
 from qdsega.assembly import assemble
 from qdsega.description import Formation, load_formation, resolve_formation
 from qdsega.errors import QdsegaWarning
-from qdsega.locomotion.lower_agent import LowerAgent, LowerAgentConfig
+from qdsega.locomotion.lower_agent import SETTLE_S, LowerAgent, LowerAgentConfig
 from qdsega.locomotion.rules import ExactRules
 from qdsega.simulation import PhysicsSettings
 from qdsega.simulation.bullet import BulletSimulation
 from qdsega.simulation.camera import LIGHT_RADIUS_FRACTION, CameraConfig, body_extent_m
 from qdsega.task import Pose, Task, TaskConfig, move_pose, relative_move
-
-SETTLE_S = 0.5
-"""Time the start posture is left to settle on the ground before a snapshot is taken (s)."""
 
 
 class LocomotionEnv(gym.Env[np.ndarray, np.ndarray]):

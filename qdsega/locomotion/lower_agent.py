@@ -27,6 +27,9 @@ if TYPE_CHECKING:  # the configuration is usable without starting the physics en
     from qdsega.simulation.bullet import BulletSimulation
 
 
+SETTLE_S = 0.5
+"""Time a body placed in its start posture rests before it is commanded (s): every trial and
+every memo transition starts this way."""
 STEP_GRID_S = 0.05
 """A derived step duration is rounded up to a multiple of this (s)."""
 

@@ -26,15 +26,12 @@ from qdsega.agent.world import Transitions
 from qdsega.assembly import assemble
 from qdsega.atomic import replaced_atomically
 from qdsega.description import Formation
-from qdsega.locomotion.lower_agent import LowerAgent, LowerAgentConfig
+from qdsega.locomotion.lower_agent import SETTLE_S, LowerAgent, LowerAgentConfig
 from qdsega.progress import ProgressFactory
 from qdsega.simulation import PhysicsSettings
 from qdsega.simulation.bullet import BulletSimulation
 from qdsega.task import relative_move
 from qdsega.workers.pool import Pool, worker_pool
-
-SETTLE_S = 0.5
-"""Rest time in the start posture of a transition before the command (s)."""
 
 PROGRESS_DELAY_S = 5.0
 """A batch of measurements shows progress only once it has taken this long (s): the many short

@@ -26,7 +26,7 @@ import numpy as np
 from qdsega.agent.world import TransitionProvider
 from qdsega.description import Formation, load_formation, resolve_formation
 from qdsega.msm import LegLayout, MinimalSimulationModel, MSMParameters
-from qdsega.task import Pose, Task, TaskConfig, move_pose
+from qdsega.task import Pose, Task, TaskConfig
 
 SIMS = ("msm", "memo")
 """The table worlds this environment walks (``sim``)."""
@@ -83,12 +83,9 @@ class TableLocomotionEnv(gym.Env[np.ndarray, np.ndarray]):
         self._steps += 1
         self._posture = levels.copy()
         failed = bool(move.failed[0, 0])
-        if failed:
-            reward = self.task.penalty
-        else:
-            before = self._pose
-            self._pose = move_pose(*before, move.dx[0, 0], move.dy[0, 0], move.dtheta[0, 0])
-            reward = self.task.reward(before, self._pose)
+        self._pose, reward = self.task.move(
+            self._pose, move.dx[0, 0], move.dy[0, 0], move.dtheta[0, 0], failed
+        )
         truncated = not failed and self._steps >= self.task.trial_steps
         return self._observation(), float(reward), failed, truncated, self._info()
 
