@@ -13,6 +13,14 @@ from qdsega import __version__
 from qdsega.commands import assemble, bench, evaluate, plot, render, report, sweep, train
 from qdsega.errors import QdsegaError, QdsegaWarning
 
+EXAMPLE = """\
+a first run (a shipped formation by name, or your own YAML file):
+  qdsega assemble quadruped
+  qdsega train quadruped --sim memo --out runs/quad
+  qdsega evaluate runs/quad && qdsega render runs/quad -o gait.mp4 && qdsega report runs/quad
+
+every command's options: qdsega COMMAND --help; the guides: docs/ in the source."""
+
 ShowWarning = Callable[[Warning | str, type[Warning], str, int, TextIO | None, str | None], None]
 """The signature of ``warnings.showwarning``."""
 
@@ -21,7 +29,12 @@ COMMANDS = (assemble, train, evaluate, plot, render, report, sweep, bench)
 
 
 def build_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(prog="qdsega", description=__doc__)
+    parser = argparse.ArgumentParser(
+        prog="qdsega",
+        description=__doc__,
+        epilog=EXAMPLE,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
     parser.add_argument("--version", action="version", version=f"qdsega {__version__}")
     subparsers = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
     for command in COMMANDS:
