@@ -49,6 +49,10 @@ class FormationError(QdsegaError):
     """A formation or unit file that cannot be read, or a body that cannot be built or moved."""
 
 
+class WorldError(QdsegaError):
+    """A world file that cannot be read, or a world a body cannot start in."""
+
+
 class ConfigError(QdsegaError):
     """A training configuration, preset, sweep grid or combination of options that does not
     hold together."""

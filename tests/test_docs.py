@@ -50,7 +50,7 @@ def test_worked_example_runs_as_written(tmp_path):
     assert "my_snake" in (tmp_path / "out" / "my_snake.urdf").read_text()
 
 
-@pytest.mark.parametrize("page", ["README.md", "docs/gymnasium.md"])
+@pytest.mark.parametrize("page", ["README.md", "docs/gymnasium.md", "docs/worlds.md"])
 def test_python_snippets_run_as_written(page, tmp_path, monkeypatch):
     monkeypatch.chdir(ROOT)  # snippets name files of the checkout (assemblies/...)
     snippets = re.findall(r"```python\n(.*?)```", (ROOT / page).read_text(), re.S)
@@ -58,3 +58,14 @@ def test_python_snippets_run_as_written(page, tmp_path, monkeypatch):
     namespace = {"__name__": "snippet"}  # a page's snippets go on from one another
     for snippet in snippets:
         exec(compile(snippet, page, "exec"), namespace)
+
+
+def test_the_world_format_example_loads(tmp_path):
+    from qdsega.description import load_world
+
+    text = (ROOT / "docs" / "worlds.md").read_text()
+    section = text[text.index("## The format") :]
+    example = re.search(r"```yaml\n(.*?)```", section, re.S).group(1)
+    (tmp_path / "course.yaml").write_text(example)
+    world = load_world(tmp_path / "course.yaml")
+    assert world.name == "obstacle_course" and len(world.boxes) == 1 and world.stairs is not None

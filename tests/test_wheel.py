@@ -15,7 +15,7 @@ import pytest
 pytestmark = pytest.mark.slow  # end to end: make test-fast leaves it out
 
 CHECKOUT = Path(__file__).resolve().parent.parent
-SOURCES = ("pyproject.toml", "README.md", "qdsega", "units", "assemblies")
+SOURCES = ("pyproject.toml", "README.md", "qdsega", "units", "assemblies", "worlds")
 """What the wheel is built from: copied, so that the build leaves nothing in the checkout."""
 
 TINY_TRAINING = "agent:\n  genetic: {population: 2}\nlocal_search: 1\n"
@@ -74,7 +74,11 @@ def test_wheel_installs_and_runs_outside_the_checkout(tmp_path):
     shipped = [*(CHECKOUT / "qdsega").rglob("*.py"), *(CHECKOUT / "qdsega").rglob("*.json")]
     for file in shipped:  # code and shipped reference gaits
         assert file.relative_to(CHECKOUT).as_posix() in names, f"{file} is not in the wheel"
-    for folder, package in (("units", "qdsega/units"), ("assemblies", "qdsega/assemblies")):
+    for folder, package in (
+        ("units", "qdsega/units"),
+        ("assemblies", "qdsega/assemblies"),
+        ("worlds", "qdsega/worlds"),
+    ):
         for file in (CHECKOUT / folder).rglob("*"):
             if file.is_file() and "__pycache__" not in file.parts:
                 assert f"{package}/{file.relative_to(CHECKOUT / folder).as_posix()}" in names

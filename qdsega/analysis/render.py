@@ -9,7 +9,7 @@ import numpy as np
 from qdsega.analysis.evaluation import load_run, replay_policy
 from qdsega.analysis.recorder import Film, record
 from qdsega.analysis.video import VIDEO_SUFFIXES, write_video
-from qdsega.description import Formation
+from qdsega.description import Formation, World
 from qdsega.errors import ConfigError, FormationError
 from qdsega.locomotion.env import LocomotionEnv, rules_env
 from qdsega.simulation.camera import CameraConfig
@@ -36,15 +36,21 @@ def render_run(run: Path, out: Path, camera: CameraConfig) -> Film:
 
 
 def render_postures(
-    formation: Formation, postures: np.ndarray, out: Path, camera: CameraConfig
+    formation: Formation,
+    postures: np.ndarray,
+    out: Path,
+    camera: CameraConfig,
+    *,
+    world: World | None = None,
 ) -> Film:
-    """Film ``postures`` (steps, J) of level indices and write the video to ``out``."""
+    """Film ``postures`` (steps, J) of level indices in ``world`` (default flat) and write the
+    video to ``out``."""
     _check_suffix(out)
     postures = np.asarray(postures, dtype=np.int64).reshape(-1, len(formation.joints))
     counts = np.array([len(j.levels_rad) for j in formation.joints])
     if np.any(postures < 0) or np.any(postures >= counts):
         raise FormationError(f"postures hold levels outside 0..(levels - 1) of {formation.name}")
-    env = LocomotionEnv(formation=formation, render_mode="rgb_array", camera=camera)
+    env = LocomotionEnv(formation=formation, render_mode="rgb_array", camera=camera, world=world)
     try:
         return _film(env, postures, out)
     finally:

@@ -38,6 +38,12 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         metavar="M",
         help="camera distance (m; default: frame the body, 1.2 times its size at rest)",
     )
+    parser.add_argument(
+        "--world",
+        metavar="NAME|FILE",
+        help="with a formation: the ground it walks on, a world file or a shipped name "
+        "(flat, ice, slope, stairs, rubble, tunnel, corridor); default flat",
+    )
     parser.add_argument("--pitch", type=float, default=25.0, help="camera looks down (deg)")
     parser.add_argument("--fov", type=float, default=60.0, help="vertical field of view (deg)")
 
@@ -45,7 +51,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 def run(args: argparse.Namespace) -> int:
     # Imported here: rendering starts PyBullet, which the other commands need not load.
     from qdsega.analysis.render import read_postures, render_postures, render_run
-    from qdsega.description import load_formation, resolve_formation
+    from qdsega.description import load_formation, load_world, resolve_formation, resolve_world
     from qdsega.simulation.camera import CameraConfig
 
     try:
@@ -60,13 +66,16 @@ def run(args: argparse.Namespace) -> int:
     except ValueError as exc:
         raise ConfigError(str(exc)) from None
     if args.source.is_dir():
+        if args.world is not None:
+            raise ConfigError("--world goes with a formation and --postures")
         film = render_run(args.source, args.output, camera)
     elif args.postures is None:
         raise FormationError("a formation file needs --postures FILE.csv", file=args.source)
     else:
         formation = load_formation(resolve_formation(args.source))
+        world = None if args.world is None else load_world(resolve_world(args.world))
         postures = read_postures(args.postures, len(formation.joints))
-        film = render_postures(formation, postures, args.output, camera)
+        film = render_postures(formation, postures, args.output, camera, world=world)
     stopped = f" (stopped early: {film.failure})" if film.failure else ""
     print(f"{len(film.frames)} frames at {film.fps} fps -> {args.output}{stopped}")
     return 0

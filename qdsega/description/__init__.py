@@ -9,8 +9,14 @@ from qdsega.description.formation import (
     PlacedUnit,
 )
 from qdsega.description.formation_reader import load_formation
-from qdsega.description.shipped import resolve_formation, shipped_formation_names
+from qdsega.description.shipped import (
+    resolve_formation,
+    resolve_world,
+    shipped_formation_names,
+    shipped_world_names,
+)
 from qdsega.description.unit_type import Connector, JointSpec, UnitType, load_unit_type
+from qdsega.description.world import World, load_world
 
 __all__ = [
     "ActuatedJoint",
@@ -22,8 +28,12 @@ __all__ = [
     "Light",
     "PlacedUnit",
     "UnitType",
+    "World",
     "load_formation",
     "load_unit_type",
+    "load_world",
     "resolve_formation",
+    "resolve_world",
     "shipped_formation_names",
+    "shipped_world_names",
 ]

@@ -81,7 +81,7 @@ def load_formation(file: Path | str, *, units_dir: Path | None = None) -> Format
     if units_dir is None and "units_dir" in top:
         units_dirs.insert(0, file.parent / reader.text(("units_dir",), top["units_dir"]))
     default_friction = _read_friction(reader, ("friction",), top.get("friction", {}), None)
-    light = _read_light(reader, top["light"])
+    light = read_light(reader, ("light",), top["light"])
     templates = _read_templates(reader, top.get("templates", {}))
     raw_units, leg_specs = _expand(reader, top["units"], templates)
 
@@ -123,8 +123,8 @@ def _read_friction(reader: Reader, path: KeyPath, value: Any, default: Friction 
     return Friction(lateral=lateral, anisotropic=anisotropic)  # type: ignore[arg-type]
 
 
-def _read_light(reader: Reader, value: Any) -> Light:
-    path: KeyPath = ("light",)
+def read_light(reader: Reader, path: KeyPath, value: Any) -> Light:
+    """A ``light:`` mapping (``distance_m``, optional ``bearing_deg``) at ``path``."""
     raw = reader.mapping(path, value, required=("distance_m",), optional=("bearing_deg",))
     return Light(
         distance_m=reader.number((*path, "distance_m"), raw["distance_m"], LIGHT_DISTANCE_M),

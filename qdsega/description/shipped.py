@@ -1,11 +1,12 @@
-"""Shipped formations by name: ``snake5`` means the packaged ``snake5.yaml``."""
+"""Shipped data by name: ``snake5`` means the packaged ``snake5.yaml``, ``stairs`` the
+packaged world ``stairs.yaml``."""
 
 from __future__ import annotations
 
 from importlib.resources import files
 from pathlib import Path
 
-from qdsega.errors import FormationError
+from qdsega.errors import FormationError, QdsegaError, WorldError
 
 
 def _data_folder(package: str) -> Path:
@@ -22,10 +23,18 @@ UNITS_DIR = _data_folder("qdsega.units")
 ASSEMBLIES_DIR = _data_folder("qdsega.assemblies")
 """Shipped formation files: ``assemblies/`` of the checkout (``qdsega/assemblies`` installed)."""
 
+WORLDS_DIR = _data_folder("qdsega.worlds")
+"""Shipped world files: ``worlds/`` of the checkout (``qdsega/worlds`` installed)."""
+
 
 def shipped_formation_names() -> list[str]:
     """Names of the shipped formations, sorted (``hexapod``, ..., ``snake5``)."""
-    return sorted(file.stem for file in ASSEMBLIES_DIR.glob("*.yaml"))
+    return _names(ASSEMBLIES_DIR)
+
+
+def shipped_world_names() -> list[str]:
+    """Names of the shipped worlds, sorted (``corridor``, ..., ``tunnel``)."""
+    return _names(WORLDS_DIR)
 
 
 def resolve_formation(argument: str | Path) -> Path:
@@ -37,12 +46,28 @@ def resolve_formation(argument: str | Path) -> Path:
     Raises:
         FormationError: a bare name that no shipped formation has (the message lists them).
     """
+    return _resolve(argument, ASSEMBLIES_DIR, "formation", FormationError)
+
+
+def resolve_world(argument: str | Path) -> Path:
+    """The world file a command-line argument means: a path, or a shipped world's name
+    (``stairs``), as :func:`resolve_formation` tells them apart.
+
+    Raises:
+        WorldError: a bare name that no shipped world has (the message lists them).
+    """
+    return _resolve(argument, WORLDS_DIR, "world", WorldError)
+
+
+def _names(folder: Path) -> list[str]:
+    return sorted(file.stem for file in folder.glob("*.yaml"))
+
+
+def _resolve(argument: str | Path, folder: Path, kind: str, error: type[QdsegaError]) -> Path:
     path = Path(argument)
     if path.is_file() or len(path.parts) != 1 or path.suffix:
         return path
-    names = shipped_formation_names()
+    names = _names(folder)
     if path.name not in names:
-        raise FormationError(
-            f"no such file, nor a shipped formation (shipped: {', '.join(names)})", file=path
-        )
-    return ASSEMBLIES_DIR / f"{path.name}.yaml"
+        raise error(f"no such file, nor a shipped {kind} (shipped: {', '.join(names)})", file=path)
+    return folder / f"{path.name}.yaml"

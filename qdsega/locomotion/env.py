@@ -39,8 +39,15 @@ import gymnasium as gym
 import numpy as np
 
 from qdsega.assembly import assemble
-from qdsega.description import Formation, load_formation, resolve_formation
-from qdsega.errors import QdsegaWarning
+from qdsega.description import (
+    Formation,
+    World,
+    load_formation,
+    load_world,
+    resolve_formation,
+    resolve_world,
+)
+from qdsega.errors import QdsegaWarning, WorldError
 from qdsega.locomotion.lower_agent import SETTLE_S, LowerAgent, LowerAgentConfig
 from qdsega.locomotion.rules import ExactRules
 from qdsega.simulation import PhysicsSettings
@@ -63,6 +70,9 @@ class LocomotionEnv(gym.Env[np.ndarray, np.ndarray]):
         render_mode: None, or ``"rgb_array"`` for :meth:`render`.
         camera: picture size and camera placement for :meth:`render` (its ``fps`` is the
             recorder's); default :class:`CameraConfig`.
+        world: the ground and what stands on it: a :class:`World`, a world file or the name
+            of a shipped one (``"stairs"``); its light, if it has one, replaces the
+            formation's; default the flat plane.
     """
 
     metadata: dict[str, Any] = {"render_modes": ["rgb_array"]}  # noqa: RUF012 - Gymnasium's
@@ -77,9 +87,15 @@ class LocomotionEnv(gym.Env[np.ndarray, np.ndarray]):
         start_levels: tuple[int, ...] | None = None,
         render_mode: str | None = None,
         camera: CameraConfig | None = None,
+        world: World | Path | str | None = None,
     ) -> None:
         if not isinstance(formation, Formation):
             formation = load_formation(resolve_formation(formation))
+        if world is not None and not isinstance(world, World):
+            world = load_world(resolve_world(world))
+        if world is not None and world.light is not None:
+            formation = formation.with_light(world.light)
+        self.world = world or World()
         if render_mode not in (None, *self.metadata["render_modes"]):
             raise ValueError(f"render_mode must be None or 'rgb_array', got {render_mode!r}")
         self.formation = formation
@@ -93,12 +109,18 @@ class LocomotionEnv(gym.Env[np.ndarray, np.ndarray]):
         self.action_space = gym.spaces.MultiDiscrete(counts)
         self.observation_space = gym.spaces.MultiDiscrete([*counts, self.task.n_exterior])
         rendering = render_mode is not None
-        self.sim = BulletSimulation(robot=assemble(formation), settings=physics, egl=rendering)
+        self.sim = BulletSimulation(
+            robot=assemble(formation), settings=physics, egl=rendering, world=self.world
+        )
         if rendering and not self.sim.egl_enabled:
             warnings.warn("EGL unavailable, rendered with TinyRenderer", QdsegaWarning, 2)
         self.lower_agent = LowerAgent(sim=self.sim, config=lower_agent or LowerAgentConfig())
         self.metadata = {**self.metadata, "render_fps": 1.0 / self.lower_agent.step_duration_s}
-        self.sim.reset(formation.posture_rad(self.start_levels))
+        try:
+            self.sim.reset(formation.posture_rad(self.start_levels))
+        except WorldError:  # it starts inside an obstacle: nothing to keep open
+            self.sim.close()
+            raise
         self.sim.step(max(1, round(SETTLE_S / self.sim.settings.time_step_s)))
         self._origin = self.lower_agent.pose().planar
         light = formation.light

@@ -16,14 +16,19 @@ from pathlib import Path
 import numpy as np
 
 from qdsega.assembly import AssembledRobot, write_assembly
+from qdsega.description.world import World
+from qdsega.errors import WorldError
 from qdsega.simulation.quiet import native_output_silenced
 from qdsega.simulation.settings import PhysicsSettings
+from qdsega.simulation.terrain import build_terrain, ground_height
 
 with native_output_silenced(2):  # pybullet prints its build time to stderr on import
     import pybullet
     import pybullet_data
     from pybullet_utils.bullet_client import BulletClient
 
+PLANE_URDF = Path(pybullet_data.getDataPath()) / "plane.urdf"
+"""The flat ground."""
 _DROP_CLEARANCE_M = 0.002
 """Gap between the robot's lowest point and the ground when it is placed (m)."""
 
@@ -41,6 +46,8 @@ class BulletSimulation:
         settings: engine parameters.
         egl: load pybullet's EGL plugin for off-screen OpenGL camera images (it must be loaded
             before any body); see :attr:`egl_enabled` for whether it loaded.
+        world: the ground and what stands on it (:mod:`qdsega.simulation.terrain`); None for
+            the flat plane.
     """
 
     def __init__(
@@ -49,6 +56,7 @@ class BulletSimulation:
         robot: AssembledRobot,
         settings: PhysicsSettings | None = None,
         egl: bool = False,
+        world: World | None = None,
     ) -> None:
         self.robot = robot
         self.formation = robot.formation
@@ -62,9 +70,8 @@ class BulletSimulation:
         if self.egl_enabled:
             _EGL_OPEN.add(self)
         self._configure_engine()
-        self.plane_id = self.client.loadURDF(
-            str(Path(pybullet_data.getDataPath()) / "plane.urdf"), useFixedBase=True
-        )
+        self.world = world or World()
+        self.terrain = build_terrain(self.client, pybullet, self.world, PLANE_URDF)
         flags = pybullet.URDF_USE_INERTIA_FROM_FILE
         if self.settings.self_collision:
             flags |= pybullet.URDF_USE_SELF_COLLISION | (
@@ -113,7 +120,9 @@ class BulletSimulation:
         }
 
     def _apply_friction(self) -> None:
-        self.client.changeDynamics(self.plane_id, -1, lateralFriction=self.settings.ground_friction)
+        ground = self.settings.ground_friction * self.world.friction
+        for body in self.terrain.ground:
+            self.client.changeDynamics(body, -1, lateralFriction=ground)
         for unit in self.formation.units:
             self.client.changeDynamics(
                 self.body_id,
@@ -147,11 +156,36 @@ class BulletSimulation:
         c.resetBaseVelocity(self.body_id, (0.0, 0.0, 0.0), (0.0, 0.0, 0.0))
         for joint_id, angle in zip(self.joint_ids, positions, strict=True):
             c.resetJointState(self.body_id, int(joint_id), float(angle), 0.0)
-        lowest = min(c.getAABB(self.body_id, index)[0][2] for index in self.link_index.values())
+        boxes = [c.getAABB(self.body_id, index) for index in self.link_index.values()]
+        lift = max(self._ground_under(low, high) - low[2] for low, high in boxes)
         c.resetBasePositionAndOrientation(
-            self.body_id, (xy_m[0], xy_m[1], 1.0 - lowest + _DROP_CLEARANCE_M), orientation
+            self.body_id, (xy_m[0], xy_m[1], 1.0 + lift + _DROP_CLEARANCE_M), orientation
         )
         self.command(positions)
+        self._refuse_a_start_inside_an_obstacle()
+
+    def _ground_under(self, low: Sequence[float], high: Sequence[float]) -> float:
+        """The highest ground under a link's bounding box (its corners and centre) (m)."""
+        if self.world.is_flat:
+            return 0.0
+        xs = np.array([low[0], high[0], low[0], high[0], (low[0] + high[0]) / 2])
+        ys = np.array([low[1], low[1], high[1], high[1], (low[1] + high[1]) / 2])
+        return float(ground_height(self.world, xs, ys).max())
+
+    def _refuse_a_start_inside_an_obstacle(self) -> None:
+        if not self.terrain.obstacles:
+            return
+        self.client.performCollisionDetection()
+        for body in self.terrain.obstacles:
+            points = self._get_contact_points(bodyA=self.body_id, bodyB=body)
+            hits = [p for p in points if p[8] < -_DROP_CLEARANCE_M]
+            if hits:
+                unit = self._unit_of_link[hits[0][3]]
+                raise WorldError(
+                    f"{self.formation.name} starts inside an obstacle of {self.world.name} "
+                    f"(unit {unit}); move the obstacle or make the way wider",
+                    file=self.world.file,
+                )
 
     def command(
         self, joint_targets_rad: Sequence[float] | np.ndarray, *, speed_rad_s: float | None = None
@@ -244,9 +278,12 @@ class BulletSimulation:
         return [(self._unit_of_link[p[3]], self._unit_of_link[p[4]], p[8]) for p in points]
 
     def ground_contacts(self) -> set[str]:
-        """Names of the units that touch the ground now."""
-        points = self._get_contact_points(bodyA=self.body_id, bodyB=self.plane_id)
-        return {self._unit_of_link[p[3]] for p in points}
+        """Names of the units that touch the ground (the plane, rough ground, steps) now."""
+        units = set()
+        for ground in self.terrain.ground:
+            points = self._get_contact_points(bodyA=self.body_id, bodyB=ground)
+            units |= {self._unit_of_link[p[3]] for p in points}
+        return units
 
     # -- pictures ------------------------------------------------------------------------------
 
@@ -260,13 +297,14 @@ class BulletSimulation:
 
     def add_light(self, xy_m: tuple[float, float], *, radius_m: float) -> None:
         """Show the light source as a glowing sphere resting on the ground at ``xy_m`` (m)."""
+        base = float(ground_height(self.world, np.array([xy_m[0]]), np.array([xy_m[1]]))[0])
         shape = self.client.createVisualShape(
             pybullet.GEOM_SPHERE, radius=radius_m, rgbaColor=(1.0, 0.85, 0.1, 1.0)
         )
         self.client.createMultiBody(
             baseMass=0.0,
             baseVisualShapeIndex=shape,
-            basePosition=(xy_m[0], xy_m[1], radius_m),
+            basePosition=(xy_m[0], xy_m[1], base + radius_m),
         )
 
     def camera_image(

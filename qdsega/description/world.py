@@ -1,0 +1,269 @@
+"""Worlds: the ground a body walks on, what stands on it, and the light, read from YAML.
+
+A world is laid out in the frame a trial starts in: the body starts at the origin heading +x,
+so stairs, a corridor and a tunnel run along +x. Every number is bounded as it is read and
+every mistake names the file, the line and the key (the reader formations use). A world
+that names no light leaves the formation's.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+from qdsega.description.formation import Light
+from qdsega.description.formation_reader import read_light
+from qdsega.errors import WorldError
+from qdsega.yaml_reader import Interval, KeyPath, Reader, load_yaml
+
+FRICTION = Interval(0.0, 10.0, open_low=True)
+"""The ground's lateral friction coefficient (-)."""
+SLOPE_DEG = Interval(-30.0, 30.0)
+"""How steeply the ground rises toward ``toward_deg`` (deg)."""
+BEARING_DEG = Interval(-360.0, 360.0)
+"""Directions in the world, counter-clockwise from +x (deg)."""
+HEIGHT_M = Interval(0.0, 1.0, open_low=True)
+"""Heights of rough ground, a step's rise (m)."""
+LENGTH_M = Interval(0.0, 100.0, open_low=True)
+"""Lengths, widths and sizes in the world (m)."""
+POSITION_M = Interval(-100.0, 100.0)
+"""Positions in the world (m)."""
+CELL_M = 0.05
+"""Rough ground's heightfield cell (m): fine enough that a body does not sink into it."""
+MAX_CELLS = 512
+"""Heightfield cells along a side: rough ground spans at most ``MAX_CELLS * CELL_M`` m."""
+MAX_BOXES = 256
+"""Boxes (obstacles) in one world."""
+MAX_STEPS = 100
+"""Steps of one staircase."""
+
+_TOP_KEYS = ("name",)
+_TOP_OPTIONAL = ("description", "ground", "stairs", "boxes", "corridor", "ceiling", "light")
+
+
+@dataclass(frozen=True)
+class Rough:
+    """Rough ground: a heightfield of smooth random bumps.
+
+    Attributes:
+        amplitude_m: the highest bump above the lowest dip (m).
+        feature_m: the bumps' typical width (m).
+        size_m: the side of the square of rough ground, centred ahead of the start (m).
+        seed: the bumps' random seed.
+    """
+
+    amplitude_m: float
+    feature_m: float
+    size_m: float
+    seed: int
+
+
+@dataclass(frozen=True)
+class Stairs:
+    """Steps up along +x: ``count`` steps of ``rise_m`` each ``run_m`` deep, from ``from_m``,
+    ``width_m`` wide."""
+
+    from_m: float
+    rise_m: float
+    run_m: float
+    count: int
+    width_m: float
+
+
+@dataclass(frozen=True)
+class Box:
+    """A fixed box standing on the ground (an obstacle): its centre (m), size (m) and yaw
+    (rad)."""
+
+    xyz_m: tuple[float, float, float]
+    size_m: tuple[float, float, float]
+    yaw_rad: float
+
+
+@dataclass(frozen=True)
+class Corridor:
+    """Two walls along +x, ``width_m`` apart, from behind the start to ``length_m``."""
+
+    width_m: float
+    length_m: float
+    height_m: float
+
+
+@dataclass(frozen=True)
+class Ceiling:
+    """A low roof (a tunnel) ``height_m`` above the ground from ``from_m`` to ``to_m`` along
+    +x, ``width_m`` wide."""
+
+    height_m: float
+    from_m: float
+    to_m: float
+    width_m: float
+
+
+@dataclass(frozen=True)
+class World:
+    """Where a body walks.
+
+    Attributes:
+        name: the world's name.
+        description: one line on it.
+        file: the YAML it was read from (None for the flat default).
+        friction: the ground's lateral friction coefficient (-).
+        slope_rad: how steeply the ground rises toward ``slope_toward_rad`` (rad).
+        slope_toward_rad: that direction, counter-clockwise from +x (rad).
+        rough: rough ground, or None.
+        stairs: a staircase, or None.
+        boxes: obstacles.
+        corridor: walls on both sides, or None.
+        ceiling: a roof, or None.
+        light: the light, or None to keep the formation's.
+    """
+
+    name: str = "flat"
+    description: str = "a flat plane"
+    file: Path | None = None
+    friction: float = 1.0
+    slope_rad: float = 0.0
+    slope_toward_rad: float = 0.0
+    rough: Rough | None = None
+    stairs: Stairs | None = None
+    boxes: tuple[Box, ...] = ()
+    corridor: Corridor | None = None
+    ceiling: Ceiling | None = None
+    light: Light | None = None
+
+    @property
+    def is_flat(self) -> bool:
+        """A plane of friction 1 and nothing on it: the world every formation had before
+        worlds existed (its light may differ)."""
+        plain = World(name=self.name, description=self.description, file=self.file)
+        return self == plain.with_light(self.light)
+
+    def with_light(self, light: Light | None) -> World:
+        return World(**{**self.__dict__, "light": light})
+
+
+def load_world(file: Path | str) -> World:
+    """Read and validate a world file.
+
+    Raises:
+        WorldError: one line naming the file, the line, the key path and what is wrong.
+    """
+    file = Path(file)
+    reader = Reader(load_yaml(file, error_type=WorldError))
+    top = reader.mapping((), reader.document.data, required=_TOP_KEYS, optional=_TOP_OPTIONAL)
+    name = reader.text(("name",), top["name"])
+    ground = reader.mapping(
+        ("ground",), top.get("ground", {}), optional=("friction", "slope", "rough")
+    )
+    slope = _slope(reader, ground.get("slope"))
+    rough = _rough(reader, ground.get("rough"))
+    if rough is not None and slope[0] != 0.0:
+        raise reader.error(("ground", "rough"), "rough ground on a slope is not supported")
+    boxes = reader.sequence(("boxes",), top.get("boxes", []))
+    if len(boxes) > MAX_BOXES:
+        raise reader.error(("boxes",), f"at most {MAX_BOXES} boxes, got {len(boxes)}")
+    return World(
+        name=name,
+        description=reader.text(("description",), top.get("description", name)),
+        file=file,
+        friction=reader.number(("ground", "friction"), ground.get("friction", 1.0), FRICTION),
+        slope_rad=slope[0],
+        slope_toward_rad=slope[1],
+        rough=rough,
+        stairs=_stairs(reader, top.get("stairs")),
+        boxes=tuple(_box(reader, ("boxes", i), raw) for i, raw in enumerate(boxes)),
+        corridor=_corridor(reader, top.get("corridor")),
+        ceiling=_ceiling(reader, top.get("ceiling")),
+        light=None if "light" not in top else read_light(reader, ("light",), top["light"]),
+    )
+
+
+def _slope(reader: Reader, value: Any) -> tuple[float, float]:
+    if value is None:
+        return 0.0, 0.0
+    path: KeyPath = ("ground", "slope")
+    raw = reader.mapping(path, value, required=("angle_deg",), optional=("toward_deg",))
+    angle = reader.number((*path, "angle_deg"), raw["angle_deg"], SLOPE_DEG)
+    toward = reader.number((*path, "toward_deg"), raw.get("toward_deg", 0.0), BEARING_DEG)
+    return math.radians(angle), math.radians(toward)
+
+
+def _rough(reader: Reader, value: Any) -> Rough | None:
+    if value is None:
+        return None
+    path: KeyPath = ("ground", "rough")
+    raw = reader.mapping(
+        path, value, required=("amplitude_m", "feature_m"), optional=("size_m", "seed")
+    )
+    size = reader.number((*path, "size_m"), raw.get("size_m", 8.0), LENGTH_M)
+    if size / CELL_M > MAX_CELLS:
+        limit = MAX_CELLS * CELL_M
+        raise reader.error((*path, "size_m"), f"heightfield too large: at most {limit:g} m")
+    feature = reader.number((*path, "feature_m"), raw["feature_m"], LENGTH_M)
+    if feature < 2 * CELL_M:
+        raise reader.error((*path, "feature_m"), f"must be at least {2 * CELL_M:g} m")
+    return Rough(
+        amplitude_m=reader.number((*path, "amplitude_m"), raw["amplitude_m"], HEIGHT_M),
+        feature_m=feature,
+        size_m=size,
+        seed=reader.integer((*path, "seed"), raw.get("seed", 0), Interval(0, 2**31 - 1)),
+    )
+
+
+def _stairs(reader: Reader, value: Any) -> Stairs | None:
+    if value is None:
+        return None
+    path: KeyPath = ("stairs",)
+    keys = ("from_m", "rise_m", "run_m", "count")
+    raw = reader.mapping(path, value, required=keys, optional=("width_m",))
+    return Stairs(
+        from_m=reader.number((*path, "from_m"), raw["from_m"], POSITION_M),
+        rise_m=reader.number((*path, "rise_m"), raw["rise_m"], HEIGHT_M),
+        run_m=reader.number((*path, "run_m"), raw["run_m"], LENGTH_M),
+        count=reader.integer((*path, "count"), raw["count"], Interval(1, MAX_STEPS)),
+        width_m=reader.number((*path, "width_m"), raw.get("width_m", 4.0), LENGTH_M),
+    )
+
+
+def _box(reader: Reader, path: KeyPath, value: Any) -> Box:
+    raw = reader.mapping(path, value, required=("xyz_m", "size_m"), optional=("yaw_deg",))
+    return Box(
+        xyz_m=reader.vector((*path, "xyz_m"), raw["xyz_m"], 3, POSITION_M),  # type: ignore[arg-type]
+        size_m=reader.vector((*path, "size_m"), raw["size_m"], 3, LENGTH_M),  # type: ignore[arg-type]
+        yaw_rad=math.radians(
+            reader.number((*path, "yaw_deg"), raw.get("yaw_deg", 0.0), BEARING_DEG)
+        ),
+    )
+
+
+def _corridor(reader: Reader, value: Any) -> Corridor | None:
+    if value is None:
+        return None
+    path: KeyPath = ("corridor",)
+    raw = reader.mapping(path, value, required=("width_m",), optional=("length_m", "height_m"))
+    return Corridor(
+        width_m=reader.number((*path, "width_m"), raw["width_m"], LENGTH_M),
+        length_m=reader.number((*path, "length_m"), raw.get("length_m", 20.0), LENGTH_M),
+        height_m=reader.number((*path, "height_m"), raw.get("height_m", 0.3), LENGTH_M),
+    )
+
+
+def _ceiling(reader: Reader, value: Any) -> Ceiling | None:
+    if value is None:
+        return None
+    path: KeyPath = ("ceiling",)
+    raw = reader.mapping(
+        path, value, required=("height_m",), optional=("from_m", "to_m", "width_m")
+    )
+    ceiling = Ceiling(
+        height_m=reader.number((*path, "height_m"), raw["height_m"], HEIGHT_M),
+        from_m=reader.number((*path, "from_m"), raw.get("from_m", 0.5), POSITION_M),
+        to_m=reader.number((*path, "to_m"), raw.get("to_m", 20.0), POSITION_M),
+        width_m=reader.number((*path, "width_m"), raw.get("width_m", 4.0), LENGTH_M),
+    )
+    if ceiling.to_m <= ceiling.from_m:
+        raise reader.error((*path, "to_m"), "must be beyond from_m")
+    return ceiling

@@ -1,0 +1,1 @@
+"""Shipped worlds, one YAML file each; installed as ``qdsega.worlds`` (data only)."""
