@@ -38,7 +38,7 @@ def main() -> None:
         formation = load_formation(resolve_formation(args.formation))
         result = reference_gait(
             formation,
-            rules=config.rules,
+            rules=config.rules(),
             budget_trials=args.budget_trials,
             seed=args.seed,
             workers=args.workers,

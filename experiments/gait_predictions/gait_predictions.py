@@ -112,7 +112,7 @@ def main() -> None:
     formation = load_formation(resolve_formation(args.formation))
     task = Task(config=config.task, light_xy=formation.light.position_m)
     steps = config.task.trial_steps
-    env = rules_env(formation, config.rules)
+    env = rules_env(formation, config.rules())
     memo = MeasuredTransitions(
         formation=formation, lower_agent=config.lower_agent, physics=config.physics, workers=1
     )
@@ -123,7 +123,7 @@ def main() -> None:
         [tuple(int(rng.integers(n)) for n in counts) for _ in range(2 + k % 3)]
         for k in range(args.gaits)
     ]
-    reference = reference_gait(formation, rules=config.rules)
+    reference = reference_gait(formation, rules=config.rules())
     period = reference.postures[: reference.params.period_steps]
     gaits.insert(0, [tuple(int(x) for x in p) for p in period])
     rest = tuple(int(x) for x in formation.rest_levels())

@@ -49,9 +49,10 @@ from qdsega.description import Formation, load_formation, resolve_formation
 from qdsega.errors import ConfigError, RunFolderError
 from qdsega.locomotion.env import LocomotionEnv, replay_postures, rules_env
 from qdsega.locomotion.env_world import EnvWorld
+from qdsega.locomotion.rules import ExactRules
 from qdsega.progress import ProgressFactory
 from qdsega.training.config import TrainingConfig, read_run_config
-from qdsega.training.formation_copy import load_run_formation
+from qdsega.training.formation_copy import load_run_formation, load_run_world
 from qdsega.training.reconfiguration import JointMapping
 from qdsega.training.run_folder import RunFolder
 from qdsega.training.sims import check_sim
@@ -85,16 +86,14 @@ def evaluate_run(
             check_budget(formation, reference_trials)  # before any physics
         except ValueError as exc:
             raise ConfigError(f"reference search: {exc}") from None
-    env = rules_env(formation, config.rules)
+    rules = config.rules(load_run_world(run))
+    env = rules_env(formation, rules)
     try:
         learned = replay_policy(env, policy)
         candidates = [classic_reference(env, formation)]
         if reference_trials > 0:
-            candidates.append(
-                searched_reference(
-                    env, formation, config, trials=reference_trials, progress=progress
-                )
-            )
+            search = {"trials": reference_trials, "workers": config.workers, "progress": progress}
+            candidates.append(searched_reference(env, formation, rules, **search))
     finally:
         env.close()
     reference = max(candidates, key=lambda c: c["distance_m"])
@@ -130,10 +129,12 @@ def evaluate_on(run: Path | str, other: Path | str) -> tuple[dict[str, Any], Pat
     run = Path(run)
     _, config, policy = load_run(run)
     source = load_run_formation(run, config)
-    target = config.with_light(load_formation(resolve_formation(other)))
+    world = load_run_world(run)
+    target = load_formation(resolve_formation(other))
+    target = config.with_light(target if world.light is None else target.with_light(world.light))
     check_sim(target, replace(config, sim="memo"))  # the lower agent must drive it
     mapping = JointMapping.between(source, target)
-    env = rules_env(target, config.rules)
+    env = rules_env(target, config.rules(world))
     try:
         learned = replay_policy(env, mapping.policy(policy, target))
     finally:
@@ -198,20 +199,21 @@ def classic_reference(env: LocomotionEnv, formation: Formation) -> dict[str, Any
 def searched_reference(
     env: LocomotionEnv,
     formation: Formation,
-    config: TrainingConfig,
+    rules: ExactRules,
     *,
     trials: int,
+    workers: int,
     progress: ProgressFactory | None = None,
 ) -> dict[str, Any]:
-    """The CPG gait CMA-ES finds in ``trials`` exact trials (cached by content hash,
-    :mod:`qdsega.baselines.reference_search`), replayed in ``env``; a search shows its
-    progress through ``progress`` (None: silent)."""
+    """The CPG gait CMA-ES finds in ``trials`` exact trials on ``workers`` processes under
+    ``rules`` (cached by content hash, :mod:`qdsega.baselines.reference_search`), replayed in
+    ``env``; a search shows its progress through ``progress`` (None: silent)."""
     try:
         found = reference_gait(
             formation,
-            rules=config.rules,
+            rules=rules,
             budget_trials=trials,
-            workers=config.workers,
+            workers=workers,
             progress=progress,
         )
     except ValueError as exc:

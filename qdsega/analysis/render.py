@@ -13,7 +13,7 @@ from qdsega.description import Formation, World
 from qdsega.errors import ConfigError, FormationError
 from qdsega.locomotion.env import LocomotionEnv, rules_env
 from qdsega.simulation.camera import CameraConfig
-from qdsega.training.formation_copy import load_run_formation
+from qdsega.training.formation_copy import load_run_formation, load_run_world
 from qdsega.training.run_folder import RunFolder
 
 
@@ -24,7 +24,7 @@ def render_run(run: Path, out: Path, camera: CameraConfig) -> Film:
     _, config, policy = load_run(run)
     formation = load_run_formation(run, config)
     evaluation = RunFolder(run).read_evaluation()
-    env = rules_env(formation, config.rules, camera=camera)
+    env = rules_env(formation, config.rules(load_run_world(run)), camera=camera)
     try:
         if evaluation is not None:
             postures = np.array(evaluation["postures"])

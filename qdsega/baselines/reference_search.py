@@ -201,15 +201,23 @@ def user_cache_dir() -> Path:
 
 # -- the rules: what a result depends on -----------------------------------------------------
 
+_NOT_PHYSICS = ("name", "description", "file", "light")
+"""What a world's key leaves out: its names and file change no trial (its light is the
+formation's, already in the key)."""
+
 
 def _rules(rules: ExactRules) -> dict:
     """The settings a posture sequence's distance depends on, as plain types (of the task, the
     trial length alone: an open-loop gait earns no reward and sees no exterior state)."""
-    return {
+    inputs = {
         "trial_steps": rules.task.trial_steps,
         "lower_agent": dataclasses.asdict(rules.lower_agent),
         "physics": dataclasses.asdict(rules.physics),
     }
+    if not rules.world.is_flat:  # the flat plane keeps the keys of before worlds existed
+        ground = dataclasses.asdict(rules.world)
+        inputs["world"] = {k: v for k, v in ground.items() if k not in _NOT_PHYSICS}
+    return inputs
 
 
 # -- the key -----------------------------------------------------------------------------------

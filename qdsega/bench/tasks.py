@@ -103,7 +103,7 @@ class BenchTask:
             return MSMArena(model=_msm(formation, config), task=self.rules())
         from qdsega.locomotion.exact_trials import ExactTrials  # starts PyBullet: only here
 
-        return ExactTrials(formation=formation, rules=config.rules, workers=1)
+        return ExactTrials(formation=formation, rules=config.rules(), workers=1)
 
     def yardstick(self) -> tuple[str, float]:
         """What distances are measured against: its name and distance (m)."""
@@ -117,7 +117,7 @@ class BenchTask:
 
         reference = reference_gait(
             formation,
-            rules=config.rules,
+            rules=config.rules(),
             workers=1,
         )
         return f"the CMA-ES reference gait ({DEFAULT_BUDGET_TRIALS} trials)", reference.distance_m

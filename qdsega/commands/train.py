@@ -7,7 +7,7 @@ from functools import partial
 from pathlib import Path
 
 from qdsega.agent.config import PRESETS
-from qdsega.description import load_formation, resolve_formation
+from qdsega.description import load_formation, load_world, resolve_formation, resolve_world
 from qdsega.errors import ConfigError
 from qdsega.training.config import SIMULATORS, TrainingConfig, resolve_config
 from qdsega.training.progress import ProgressDisplay
@@ -19,7 +19,7 @@ RUNS_DIR = Path("runs")
 """Where run folders go when --out is not given."""
 _RUN_OPTIONS = (
     "sim", "workers", "ray", "preset", "config", "seed", "out", "overwrite", "generations",
-    "trials", "light_bearing_deg", "warm_start", "allow_unmatched",
+    "trials", "light_bearing_deg", "warm_start", "allow_unmatched", "world",
 )  # fmt: skip
 """Options that configure a new run, which --resume does not take."""
 
@@ -62,7 +62,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     )
     parser.add_argument("--seed", type=int, help="random seed (default: the config's, 0)")
     parser.add_argument(
-        "--out", type=Path, metavar="RUN", help="run folder (default runs/FORMATION-SIM-seedS)"
+        "--out",
+        type=Path,
+        metavar="RUN",
+        help="run folder (default runs/FORMATION[-WORLD]-SIM-seedS)",
     )
     parser.add_argument(
         "--overwrite", action="store_true", help="delete an existing run folder --out first"
@@ -71,6 +74,12 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--trials", type=int, metavar="N", help="trials per generation")
     parser.add_argument(
         "--light-bearing-deg", type=float, metavar="D", help="move the light to this bearing"
+    )
+    parser.add_argument(
+        "--world",
+        metavar="NAME|FILE",
+        help="the ground to learn on: a world file or a shipped name (flat, ice, slope, "
+        "stairs, rubble, tunnel, corridor; docs/worlds.md); default flat",
     )
     parser.add_argument(
         "--warm-start",
@@ -111,7 +120,10 @@ def run(args: argparse.Namespace) -> int:
             from qdsega.workers.ray_cluster import connect
 
             connect(config.ray, cpus=config.workers)
-        out = args.out or RUNS_DIR / f"{args.formation.stem}-{config.sim}-seed{config.seed}"
+        world = None if args.world is None else load_world(resolve_world(args.world))
+        place = "" if world is None else f"-{world.name}"
+        name = f"{args.formation.stem}{place}-{config.sim}-seed{config.seed}"
+        out = args.out or RUNS_DIR / name
         if args.allow_unmatched and args.warm_start is None:
             raise ConfigError("--allow-unmatched goes with --warm-start RUN")
         start = partial(
@@ -123,6 +135,7 @@ def run(args: argparse.Namespace) -> int:
             progress=progress,
             warm_start=args.warm_start,
             allow_unmatched=args.allow_unmatched,
+            world=world,
         )
     try:
         summary = start()

@@ -221,6 +221,7 @@ def rules_env(
         physics=rules.physics,
         render_mode=None if camera is None else "rgb_array",
         camera=camera,
+        world=rules.world,
     )
 
 

@@ -25,7 +25,7 @@ import numpy as np
 from qdsega.agent.world import Transitions
 from qdsega.assembly import assemble
 from qdsega.atomic import replaced_atomically
-from qdsega.description import Formation
+from qdsega.description import Formation, World
 from qdsega.locomotion.lower_agent import SETTLE_S, LowerAgent, LowerAgentConfig
 from qdsega.progress import ProgressFactory
 from qdsega.simulation import PhysicsSettings
@@ -54,6 +54,8 @@ class MeasuredTransitions:
             (:mod:`qdsega.workers.ray_cluster`); the table is the same bit for bit.
         progress: makes the line that shows a batch's transitions measured of all, for
             batches that take longer than ``PROGRESS_DELAY_S`` (None: silent).
+        world: the ground the moves are measured on (default flat): each move from a
+            settled start at the origin, heading +x.
     """
 
     def __init__(
@@ -66,6 +68,7 @@ class MeasuredTransitions:
         workers: int = 2,
         ray: str | None = None,
         progress: ProgressFactory | None = None,
+        world: World | None = None,
     ) -> None:
         if workers < 1:
             raise ValueError(f"workers must be at least 1, got {workers}")
@@ -76,6 +79,7 @@ class MeasuredTransitions:
         self.workers = workers
         self.ray = ray
         self.progress = progress
+        self.world = world or World()
         self._start = np.array(start_levels or formation.rest_levels(), dtype=np.int64)
         self._table: dict[bytes, np.ndarray] = {}
         self._pool: Pool | None = None
@@ -146,7 +150,7 @@ class MeasuredTransitions:
                 jobs.append((source, np.array(missing)))
         if not jobs:
             return
-        args = (self.formation, self.lower_agent, self.physics)
+        args = (self.formation, self.lower_agent, self.physics, self.world)
         results: Iterator[np.ndarray]
         if self.workers == 1 and self.ray is None:
             _init_worker(*args)
@@ -183,12 +187,17 @@ class _Bench:
     """A worker's own simulation, lower agent and a snapshot right after loading."""
 
     def __init__(
-        self, formation: Formation, lower_agent: LowerAgentConfig, physics: PhysicsSettings
+        self,
+        formation: Formation,
+        lower_agent: LowerAgentConfig,
+        physics: PhysicsSettings,
+        world: World,
     ) -> None:
         self.formation = formation
         self.lower_agent = lower_agent
         self.physics = physics
-        self.sim = BulletSimulation(robot=assemble(formation), settings=physics)
+        self.world = world
+        self.sim = BulletSimulation(robot=assemble(formation), settings=physics, world=world)
         self.agent = LowerAgent(sim=self.sim, config=lower_agent)
         self.pristine = self.sim.save_state()
         self.rest = np.array(formation.rest_levels(), dtype=np.int64)
@@ -199,7 +208,7 @@ _bench: _Bench | None = None
 
 
 def _init_worker(
-    formation: Formation, lower_agent: LowerAgentConfig, physics: PhysicsSettings
+    formation: Formation, lower_agent: LowerAgentConfig, physics: PhysicsSettings, world: World
 ) -> None:
     global _bench
     if (
@@ -207,10 +216,11 @@ def _init_worker(
         or _bench.formation is not formation
         or _bench.lower_agent != lower_agent
         or _bench.physics != physics
+        or _bench.world != world
     ):
         if _bench is not None:
             _bench.sim.close()
-        _bench = _Bench(formation, lower_agent, physics)
+        _bench = _Bench(formation, lower_agent, physics, world)
 
 
 def _measure_from(source: np.ndarray, targets: np.ndarray) -> np.ndarray:

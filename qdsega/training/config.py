@@ -29,7 +29,7 @@ from pathlib import Path
 from typing import Any
 
 from qdsega.agent.config import PRESETS, QDSEGAConfig
-from qdsega.description import Formation, Light
+from qdsega.description import Formation, Light, World
 from qdsega.errors import ConfigError, QdsegaError, RunFolderError
 from qdsega.locomotion.lower_agent import LowerAgentConfig
 from qdsega.locomotion.rules import ExactRules
@@ -124,10 +124,15 @@ class TrainingConfig:
         """Plain types only (tuples become lists), for YAML."""
         return _plain(dataclasses.asdict(self))
 
-    @property
-    def rules(self) -> ExactRules:
-        """What exact physics judges this run's trials by: its task, lower agent, physics."""
-        return ExactRules(task=self.task, lower_agent=self.lower_agent, physics=self.physics)
+    def rules(self, world: World | None = None) -> ExactRules:
+        """What exact physics judges this run's trials by: its task, lower agent and physics,
+        in ``world`` (default flat)."""
+        return ExactRules(
+            task=self.task,
+            lower_agent=self.lower_agent,
+            physics=self.physics,
+            world=world or World(),
+        )
 
     def with_light(self, formation: Formation) -> Formation:
         """``formation`` with its light moved to ``light_bearing_deg`` (at its distance), or

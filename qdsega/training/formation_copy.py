@@ -1,4 +1,5 @@
-"""A run folder's own copy of its formation, so that a finished run never reads the original.
+"""A run folder's own copies of its formation and its world, so that a finished run never reads
+the originals.
 
 ``RUN/formation/`` holds the formation file and, in ``units/``, every file of the unit types it
 uses (``unit.yaml``, the link template, meshes), the user's own and the shipped ones alike,
@@ -30,9 +31,9 @@ from pathlib import Path
 from typing import Any
 
 from qdsega.atomic import replaced_atomically
-from qdsega.description import Formation, load_formation
+from qdsega.description import Formation, World, load_formation, load_world
 from qdsega.description.unit_type import mesh_files
-from qdsega.errors import FormationError, QdsegaWarning, RunFolderError
+from qdsega.errors import FormationError, QdsegaWarning, RunFolderError, WorldError
 from qdsega.training.config import TrainingConfig
 from qdsega.training.run_folder import RunFolder
 
@@ -157,7 +158,46 @@ def load_run_formation(run: Path, config: TrainingConfig) -> Formation:
                 stacklevel=2,
             )
     formation = load_formation(copy / record.formation, units_dir=copy / record.units_dir)
-    return config.with_light(formation)
+    light = load_run_world(run).light
+    return config.with_light(formation if light is None else formation.with_light(light))
+
+
+def copy_world(world: World, run: Path) -> None:
+    """Write the run's own copy of the world file it trains in (``world.yaml``); nothing for
+    the flat plane that no file describes.
+
+    Raises:
+        WorldError: the world file cannot be read again.
+    """
+    if world.file is None:
+        return
+    try:
+        data = world.file.read_bytes()
+    except OSError as exc:
+        raise WorldError(f"cannot copy the world: {exc}", file=world.file) from None
+    with replaced_atomically(run / RunFolder.WORLD) as partial:
+        partial.write_bytes(data)
+
+
+def load_run_world(run: Path) -> World:
+    """The world of run folder ``run``, from its copy; the flat plane where it has none.
+
+    Raises:
+        RunFolderError: a copy that does not read as a world.
+    """
+    file = run / RunFolder.WORLD
+    if not file.is_file():
+        return World()
+    try:
+        return load_world(file)
+    except WorldError as exc:
+        raise RunFolderError(f"corrupt run folder ({exc})", file=run) from None
+
+
+def world_sha256(run: Path) -> str | None:
+    """The sha256 (hex) of the run's copy of its world file, or None without one."""
+    file = run / RunFolder.WORLD
+    return _sha256(file.read_bytes()) if file.is_file() else None
 
 
 def read_formation_record(run: Path) -> FormationRecord:

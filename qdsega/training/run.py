@@ -23,15 +23,18 @@ import yaml
 from qdsega.agent.learner import QDSEGA, Generation, LearnerState
 from qdsega.agent.policy import Rollout
 from qdsega.atomic import replaced_atomically
-from qdsega.description import Formation, load_formation
+from qdsega.description import Formation, World, load_formation
 from qdsega.errors import ConfigError, QdsegaWarning, RunFolderError
 from qdsega.progress import ProgressLine
 from qdsega.training.checkpoint import Checkpoint, load_checkpoint, save_checkpoint
 from qdsega.training.config import TrainingConfig, read_run_config
 from qdsega.training.formation_copy import (
     FormationSnapshot,
+    copy_world,
     load_run_formation,
+    load_run_world,
     read_formation_record,
+    world_sha256,
 )
 from qdsega.training.interrupt import InterruptWatch
 from qdsega.training.reconfiguration import JointMapping, warm_record, warm_state
@@ -104,14 +107,17 @@ def train(
     progress: Progress | None = None,
     warm_start: Path | None = None,
     allow_unmatched: bool = False,
+    world: World | None = None,
 ) -> dict[str, Any]:
     """Train with ``config`` and write the new run folder ``out``; return the summary.
 
-    ``config.yaml`` and the formation's copy are written first, before anything slow, so that
-    :func:`resume` can continue a run stopped at any moment.
+    ``config.yaml`` and the copies of the formation and the world are written first, before
+    anything slow, so that :func:`resume` can continue a run stopped at any moment.
 
     Args:
         overwrite: delete the run folder ``out`` first if it exists.
+        world: the ground it learns on (default the flat plane); its light, if it has one,
+            replaces the formation's.
         warm_start: a finished run folder to start from: its last population and Q-table,
             mapped onto this formation by joint name
             (:mod:`qdsega.training.reconfiguration`).
@@ -128,7 +134,8 @@ def train(
     out = Path(out)
     folder = RunFolder(out)
     original = load_formation(formation_file)
-    check_sim(config.with_light(original), config)
+    lit = original if world is None or world.light is None else original.with_light(world.light)
+    check_sim(config.with_light(lit), config, world)
     warm = None
     if warm_start is not None:
         warm = _warm_source(Path(warm_start), original, config, allow_unmatched)
@@ -154,6 +161,8 @@ def train(
         with replaced_atomically(folder / folder.CONFIG) as partial:
             partial.write_text(yaml.safe_dump(config.to_dict(), sort_keys=False), encoding="utf-8")
         snapshot.write(out)
+        if world is not None:
+            copy_world(world, out)
         if warm is not None:
             record, mapping, source = warm
             mapping.save(folder / folder.WARM_START_STATE, source)
@@ -262,7 +271,13 @@ def _run(
 ) -> dict[str, Any]:
     session_start = time.perf_counter()
     out = folder.path
-    sim = build_sim(formation, config, out, measuring=None if progress is None else ProgressLine)
+    sim = build_sim(
+        formation,
+        config,
+        out,
+        world=load_run_world(out),
+        measuring=None if progress is None else ProgressLine,
+    )
     try:
         learner = QDSEGA(
             config=config.agent,
@@ -464,6 +479,8 @@ def _finish(
     summary = {
         "formation": formation.name,
         **read_formation_record(folder.path).summary(),
+        "world": sim.world.name,
+        "world_sha256": world_sha256(folder.path),
         "sim": config.sim,
         "preset": config.preset,
         "seed": config.seed,

@@ -52,6 +52,8 @@ class RunFolder:
     CONFIG: ClassVar[str] = "config.yaml"
     FORMATION_DIR: ClassVar[str] = "formation"
     FORMATION_RECORD: ClassVar[str] = "formation.json"
+    WORLD: ClassVar[str] = "world.yaml"
+    """The run's copy of the world file it trains in; none for the flat plane."""
     LOCK: ClassVar[str] = "train.lock"
     WARM_START: ClassVar[str] = "warm_start.json"
     WARM_START_STATE: ClassVar[str] = "warm_start.npz"

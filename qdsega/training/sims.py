@@ -26,9 +26,10 @@ from qdsega.agent.genetic import vary_gait
 from qdsega.agent.grounding import GroundedTransitions
 from qdsega.agent.learner import Generation
 from qdsega.agent.policy import BoltzmannPolicy, Policy, Rollout, SequencePolicy
-from qdsega.agent.world import TransitionProvider, Transitions, World
-from qdsega.description import Formation
-from qdsega.errors import FormationError
+from qdsega.agent.world import TransitionProvider, Transitions
+from qdsega.agent.world import World as StepWorld
+from qdsega.description import Formation, World
+from qdsega.errors import ConfigError, FormationError
 from qdsega.msm import LegLayout, MinimalSimulationModel, Optimum, msm_optimum
 from qdsega.progress import ProgressFactory
 from qdsega.task import Task
@@ -110,9 +111,10 @@ class TrainingSim:
             seeded ``(seed, g, k)``, so a resumed run draws the same, whichever worker runs it.
         optimum: the exact optimum where one is known (the MSM), else None.
         layout: the legs, for gait figures; None for a legless formation.
+        world: the ground it walks on.
     """
 
-    provider: TransitionProvider | World
+    provider: TransitionProvider | StepWorld
     exact: ExactTrials | None
     grounded: GroundedTransitions | None
     task: Task
@@ -123,6 +125,7 @@ class TrainingSim:
     local_search: int = 0
     phase_moves: float = 0.0
     seed: int = 0
+    world: World = field(default_factory=World)
     _best: tuple[np.ndarray, float] | None = field(default=None, init=False, repr=False)
     """The commands (k, J) and distance (m) of the best local-search parent so far."""
     failures: Failures = field(default_factory=Failures, init=False)
@@ -266,14 +269,20 @@ class TrainingSim:
                 close()
 
 
-def check_sim(formation: Formation, config: TrainingConfig) -> None:
-    """Refuse, before anything is written, a formation the world ``config.sim`` cannot model.
+def check_sim(formation: Formation, config: TrainingConfig, world: World | None = None) -> None:
+    """Refuse, before anything is written, a formation (or a world) the simulator
+    ``config.sim`` cannot model.
 
     Raises:
         FormationError: a legless formation in the MSM; a formation the lower agent cannot
             drive in PyBullet.
+        ConfigError: a world other than the flat plane in the MSM.
     """
     if config.sim == "msm":
+        if world is not None and not world.is_flat:
+            raise ConfigError(
+                f"the MSM knows no terrain: {world.name} needs --sim memo or pybullet"
+            )
         LegLayout.from_formation(formation)
         return
     try:
@@ -287,28 +296,30 @@ def build_sim(
     config: TrainingConfig,
     run: Path,
     *,
+    world: World | None = None,
     measuring: ProgressFactory | None = None,
 ) -> TrainingSim:
-    """The simulator ``config.sim`` names, for ``formation``; memo mode reuses ``run``'s table
-    and shows large batches of measuring through ``measuring``.
+    """The simulator ``config.sim`` names, for ``formation`` in ``world`` (default flat; the MSM
+    knows none); memo mode reuses ``run``'s table and shows large batches of measuring through
+    ``measuring``.
 
     Raises:
         FormationError: the formation cannot be modelled by that world (a snake in the MSM).
     """
     task = Task(config=config.task, light_xy=formation.light.position_m)
+    rules = config.rules(world)
     if config.sim == "msm":
         layout = LegLayout.from_formation(formation)  # refuses a legless formation
         model = MinimalSimulationModel(legs=layout, params=config.msm)
         optimum = msm_optimum(model, steps=task.trial_steps, light_xy=tuple(task.light))
-        return TrainingSim(model, None, None, task, optimum, layout)
+        return TrainingSim(model, None, None, task, optimum, layout, world=rules.world)
     layout = LegLayout.from_formation(formation) if formation.legs else None
     from qdsega.locomotion.env import rules_env  # starts PyBullet: only when needed
     from qdsega.locomotion.env_world import EnvWorld
 
     if config.sim == "pybullet":
-        return TrainingSim(
-            EnvWorld(env=rules_env(formation, config.rules)), None, None, task, None, layout
-        )
+        env = rules_env(formation, rules)
+        return TrainingSim(EnvWorld(env=env), None, None, task, None, layout, world=rules.world)
     from qdsega.locomotion.exact_trials import ExactTrials
     from qdsega.locomotion.memo import MeasuredTransitions
 
@@ -319,6 +330,7 @@ def build_sim(
         workers=config.workers,
         ray=config.ray,
         progress=measuring,
+        world=rules.world,
     )
     if (run / RunFolder.TRANSITIONS).is_file():
         memo.load(run / RunFolder.TRANSITIONS)
@@ -331,7 +343,7 @@ def build_sim(
         learning.temperature_rate,
         learning.temperature_offset,
     )
-    exact = ExactTrials(formation=formation, rules=config.rules, workers=config.workers)
+    exact = ExactTrials(formation=formation, rules=rules, workers=config.workers)
     return TrainingSim(
         provider,
         exact,
@@ -339,6 +351,7 @@ def build_sim(
         task,
         None,
         layout,
+        world=rules.world,
         explore=(config.explore_trials, last),
         optimism=config.optimism,
         local_search=config.local_search,

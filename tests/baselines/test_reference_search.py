@@ -251,7 +251,7 @@ def test_every_shipped_formation_ships_its_reference_under_the_presets_rules(nam
     config = resolve_config()
     key = reference_key(
         load_formation(ASSEMBLIES_DIR / f"{name}.yaml"),
-        rules=config.rules,
+        rules=config.rules(),
     )
     assert (SHIPPED / f"{name}-{key[:16]}.json").is_file(), f"stale or missing: {name}"
 

@@ -43,9 +43,10 @@ def _train_args(kind: str, tmp_path: Path, out: Path, workers: int = 1) -> list[
         ]  # fmt: skip
     config = tmp_path / f"budget{workers}.yaml"
     config.write_text(MEMO_BUDGET.format(workers=workers))
+    world = ["--world", "rubble"] if kind == "memo in a world" else []
     return [
         "train", ASSEMBLIES_DIR / "snake5.yaml", "--sim", "memo", "--preset", "paper-snake",
-        "--config", config, "--seed", "1", "--out", out, "--quiet",
+        "--config", config, "--seed", "1", "--out", out, "--quiet", *world,
     ]  # fmt: skip
 
 
@@ -74,8 +75,17 @@ _MOMENTS = {
 }
 
 
-@pytest.mark.parametrize("moment", [*_MOMENTS, "at a random moment"])
-@pytest.mark.parametrize("kind", ["msm", "memo"])
+@pytest.mark.parametrize(
+    ("kind", "moment"),
+    [
+        *(
+            (kind, moment)
+            for kind in ("msm", "memo")
+            for moment in [*_MOMENTS, "at a random moment"]
+        ),
+        ("memo in a world", "after two generations"),
+    ],
+)
 def test_sigkill_then_resume_equals_an_uninterrupted_run(kind, moment, uninterrupted, tmp_path):
     whole, wall_s = uninterrupted(kind)
     killed = tmp_path / "killed"
