@@ -3,6 +3,7 @@
 A grid file (``GRID.yaml``)::
 
     formations: [snake5, quadruped]   # shipped names or files (relative to GRID.yaml)
+    worlds: [flat, stairs]            # optional: shipped names or files; default the plane
     seeds: [0, 1, 2]                  # default [0]
     sim: memo                         # default memo
     presets: [memo-legged]            # default: each formation's own (default_preset)
@@ -36,18 +37,18 @@ from typing import Any
 
 import yaml
 
-from qdsega.description import load_formation, resolve_formation
-from qdsega.errors import ConfigError, QdsegaError
+from qdsega.description import World, load_formation, load_world, resolve_formation, resolve_world
+from qdsega.errors import ConfigError, QdsegaError, WorldError
 from qdsega.progress import ProgressFactory
 from qdsega.training.config import SIMULATORS, default_preset, resolve_config
 from qdsega.training.run import train_or_resume
 from qdsega.training.run_folder import RunFolder
 from qdsega.yaml_reader import YamlDocument, load_yaml
 
-GRID_KEYS = ("formations", "seeds", "sim", "presets", "configs", "reference_trials")
+GRID_KEYS = ("formations", "worlds", "seeds", "sim", "presets", "configs", "reference_trials")
 """The keys a grid file may have."""
 TABLE_COLUMNS = (
-    "run", "formation", "preset", "config", "seed", "status", "distance_m",
+    "run", "formation", "world", "preset", "config", "seed", "status", "distance_m",
     "memo_prediction_m", "ratio", "reference", "reference_m", "generations", "sim_steps",
     "error",
 )  # fmt: skip
@@ -61,9 +62,11 @@ class SweepRun:
     """One run of a sweep.
 
     Attributes:
-        name: its folder name, ``FORMATION-PRESET-CONFIG-seedS``.
+        name: its folder name, ``FORMATION[-WORLD]-PRESET-CONFIG-seedS`` (the world where the
+            grid names worlds).
         formation: the formation file.
-        sim: the world (``msm``, ``memo``, ``pybullet``).
+        world: the world file, or None for the flat plane.
+        sim: the simulator (``msm``, ``memo``, ``pybullet``).
         preset: the preset it starts from.
         config: the name of its settings in the grid's ``configs``.
         config_file: those settings as a YAML file (``qdsega train --config``).
@@ -73,6 +76,7 @@ class SweepRun:
 
     name: str
     formation: Path
+    world: Path | None
     sim: str
     preset: str
     config: str
@@ -132,14 +136,19 @@ def read_grid(file: Path, out: Path) -> list[SweepRun]:
                 resolve_config(preset=preset or "paper-legged", overrides=overrides)
             except ConfigError as exc:
                 raise document.error(("configs", name), str(exc)) from None
+    worlds = _worlds(document, grid, sim)
     runs = []
-    for (path, formation), preset, name, seed in itertools.product(
-        formations, presets, settings_of, seeds
+    for (path, formation), world, preset, name, seed in itertools.product(
+        formations, worlds, presets, settings_of, seeds
     ):
         preset = preset or default_preset(formation, sim)
-        label = f"{path.stem}-{preset}-{name}-seed{seed}"
+        place = "" if world is None or world.file is None else f"-{world.file.stem}"
+        label = f"{path.stem}{place}-{preset}-{name}-seed{seed}"
         config_file = out / "configs" / f"{name}.yaml"
-        runs.append(SweepRun(label, path.resolve(), sim, preset, name, config_file, seed, trials))
+        where = None if world is None or world.file is None else world.file.resolve()
+        runs.append(
+            SweepRun(label, path.resolve(), where, sim, preset, name, config_file, seed, trials)
+        )
     names = [r.name for r in runs]
     if len(set(names)) != len(names):
         message = "two formations share a file name: their runs would share a folder"
@@ -149,6 +158,24 @@ def read_grid(file: Path, out: Path) -> list[SweepRun]:
         text = yaml.safe_dump(settings, sort_keys=True)
         (out / "configs" / f"{name}.yaml").write_text(text, encoding="utf-8")
     return runs
+
+
+def _worlds(document: YamlDocument, grid: dict[str, Any], sim: str) -> list[World | None]:
+    """The grid's worlds, each read and checked now (None: the grid names none, the plane)."""
+    if "worlds" not in grid:
+        return [None]
+    worlds: list[World | None] = []
+    for i, given in enumerate(_list_of(grid["worlds"], str, document, "worlds")):
+        path = Path(given)
+        if not path.is_absolute() and (document.file.parent / path).is_file():
+            path = document.file.parent / path
+        try:
+            worlds.append(load_world(resolve_world(path)))
+        except WorldError as exc:
+            raise document.error(("worlds", i), str(exc)) from None
+    if sim == "msm" and any(w is not None and not w.is_flat for w in worlds):
+        raise document.error(("worlds",), "the MSM knows no terrain: use sim: memo")
+    return worlds
 
 
 def _list_of(
@@ -171,7 +198,8 @@ def run_one(run: SweepRun, folder: Path) -> str:
     try:
         overrides = {"sim": run.sim, "seed": run.seed}
         config = resolve_config(preset=run.preset, file=run.config_file, overrides=overrides)
-        train_or_resume(run.formation, config, folder)
+        world = None if run.world is None else load_world(run.world)
+        train_or_resume(run.formation, config, folder, world=world)
         if RunFolder(folder).read_evaluation() is None:
             step = "evaluate"
             budget = (
@@ -253,6 +281,7 @@ def _evaluated(folder: Path) -> bool:
 def _row(run: SweepRun, folder: Path, status: str) -> dict[str, Any]:
     row: dict[str, Any] = dict.fromkeys(TABLE_COLUMNS)
     row.update(run=run.name, formation=run.formation.stem, preset=run.preset, config=run.config)
+    row["world"] = "flat" if run.world is None else run.world.stem
     row["seed"] = run.seed
     if status != "ok":
         row.update(status="failed", error=status)

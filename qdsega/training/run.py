@@ -236,11 +236,12 @@ def train_or_resume(
     out: Path | str,
     *,
     progress: Progress | None = None,
+    world: World | None = None,
 ) -> dict[str, Any]:
     """Make ``out`` a finished run and return its summary: kept when it is finished, resumed
-    when it was started, else trained with ``config``. Sweeps, the benchmark and the
-    experiments make their runs this way, so that running them again finishes what a crash
-    left.
+    when it was started, else trained with ``config`` in ``world`` (default flat). Sweeps,
+    the benchmark and the experiments make their runs this way, so that running them again
+    finishes what a crash left.
 
     Raises:
         RunFolderError, FormationError, ConfigError: as :func:`train` and :func:`resume`.
@@ -252,7 +253,7 @@ def train_or_resume(
         return folder.read_summary()
     if folder.started:
         return resume(out, progress=progress)
-    return train(formation_file, config, out, progress=progress)
+    return train(formation_file, config, out, progress=progress, world=world)
 
 
 def _contents(folder: Path) -> list[Path]:
