@@ -10,7 +10,17 @@ from collections.abc import Callable, Sequence
 from typing import TextIO
 
 from qdsega import __version__
-from qdsega.commands import assemble, bench, evaluate, plot, render, report, sweep, train
+from qdsega.commands import (
+    assemble,
+    bench,
+    evaluate,
+    match,
+    plot,
+    render,
+    report,
+    sweep,
+    train,
+)
 from qdsega.errors import QdsegaError, QdsegaWarning
 
 EXAMPLE = """\
@@ -24,7 +34,7 @@ every command's options: qdsega COMMAND --help; the guides: docs/ in the source.
 ShowWarning = Callable[[Warning | str, type[Warning], str, int, TextIO | None, str | None], None]
 """The signature of ``warnings.showwarning``."""
 
-COMMANDS = (assemble, train, evaluate, plot, render, report, sweep, bench)
+COMMANDS = (assemble, train, evaluate, plot, render, report, sweep, match, bench)
 """Each module provides ``NAME``, ``HELP``, ``add_arguments(parser)`` and ``run(args) -> int``."""
 
 

@@ -22,6 +22,7 @@ LAYERS = (
     ("qdsega.training",),
     ("qdsega.analysis",),
     ("qdsega.sweep", "qdsega.bench"),
+    ("qdsega.match",),
     ("qdsega.commands",),
     ("qdsega.cli",),
 )

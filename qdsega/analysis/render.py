@@ -57,6 +57,23 @@ def render_postures(
         env.close()
 
 
+def final_still(run: Path, camera: CameraConfig) -> np.ndarray:
+    """The last picture of the run's evaluated trial (replayed anew without an evaluation),
+    (height, width, 3) uint8: where its gait took the body."""
+    _, config, policy = load_run(run)
+    formation = load_run_formation(run, config)
+    evaluation = RunFolder(run).read_evaluation()
+    env = rules_env(formation, config.rules(load_run_world(run)), camera=camera)
+    try:
+        if evaluation is not None:
+            postures = np.array(evaluation["postures"])
+        else:
+            postures = np.array(replay_policy(env, policy)["postures"])
+        return record(env, postures).frames[-1]
+    finally:
+        env.close()
+
+
 def _film(env: LocomotionEnv, postures: np.ndarray, out: Path) -> Film:
     film = record(env, postures)
     write_video(film.frames, out, fps=film.fps)

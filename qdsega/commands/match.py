@@ -1,0 +1,94 @@
+"""``qdsega match``: which body for which world; every formation trained in every world."""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+from qdsega.errors import ConfigError
+
+NAME = "match"
+HELP = (
+    "train and evaluate every formation in every world (a sweep), then write a matrix of exact "
+    "distances, the best body for each world, a heatmap and a page with a still of each cell"
+)
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("formations", nargs="+", metavar="FORMATION", help="files or names")
+    parser.add_argument(
+        "--world", nargs="+", required=True, metavar="WORLD", help="world files or shipped names"
+    )
+    parser.add_argument("--seeds", nargs="+", type=int, default=[0], metavar="S")
+    parser.add_argument("--preset", help="one preset for every body (default: each body's own)")
+    parser.add_argument(
+        "--budget",
+        choices=("screen", "full"),
+        default="screen",
+        help="screen: each preset cut to 8 generations (default); full: the presets as they are",
+    )
+    parser.add_argument(
+        "--config", type=Path, metavar="FILE.yaml", help="settings over the budget (as --config)"
+    )
+    parser.add_argument(
+        "--reference-trials",
+        type=int,
+        metavar="N",
+        help="the CMA-ES reference search's trials per cell (default 600; 0: classic gaits only)",
+    )
+    parser.add_argument("--out", type=Path, metavar="DIR", help="default runs/match")
+    parser.add_argument("--jobs", type=int, default=1, metavar="N", help="runs at a time")
+    parser.add_argument("--ray", metavar="local|ADDRESS", help="runs as Ray tasks instead")
+
+
+def run(args: argparse.Namespace) -> int:
+    # Imported here: stills start PyBullet, which the other commands need not load.
+    from qdsega.analysis.render import final_still
+    from qdsega.match import SCREEN, best_bodies, match_grid, matrix, write_matrix
+    from qdsega.progress import ProgressLine
+    from qdsega.simulation.camera import CameraConfig
+    from qdsega.sweep import read_grid, run_sweep
+    from qdsega.yaml_reader import load_yaml
+
+    if args.jobs < 1:
+        raise ConfigError(f"--jobs must be at least 1, got {args.jobs}")
+    settings = dict(SCREEN) if args.budget == "screen" else {}
+    if args.config is not None:
+        data = load_yaml(args.config, error_type=ConfigError).data
+        if not isinstance(data, dict):
+            raise ConfigError("expected a mapping of settings", file=args.config)
+        settings = _merged(settings, data)
+    out = args.out or Path("runs") / "match"
+    out.mkdir(parents=True, exist_ok=True)
+    grid = out / "grid.yaml"
+    text = match_grid(
+        [str(Path(f).resolve()) if Path(f).is_file() else str(f) for f in args.formations],
+        [str(Path(w).resolve()) if Path(w).is_file() else str(w) for w in args.world],
+        seeds=args.seeds,
+        preset=args.preset,
+        settings=settings,
+        reference_trials=args.reference_trials,
+    )
+    grid.write_text(text, encoding="utf-8")
+    runs = read_grid(grid, out)
+    print(f"qdsega match: {len(runs)} runs -> {out}", flush=True)
+    rows = run_sweep(runs, out, jobs=args.jobs, ray=args.ray, progress=ProgressLine)
+    cells = matrix(rows)
+    formations = list(dict.fromkeys(row["formation"] for row in rows))
+    worlds = list(dict.fromkeys(row["world"] for row in rows))
+    camera = CameraConfig(width=320, height=240)
+    stills = {key: final_still(out / cell.run, camera) for key, cell in cells.items() if cell.run}
+    files = write_matrix(cells, formations, worlds, out, stills)
+    for world, body in best_bodies(cells).items():
+        print(f"{world}: {body or 'no body moved'}")
+    print(" ".join(str(f) for f in files))
+    return 0
+
+
+def _merged(base: dict, more: dict) -> dict:
+    """``more`` over ``base``, nested mappings merged key by key."""
+    merged = dict(base)
+    for key, value in more.items():
+        both = isinstance(value, dict) and isinstance(merged.get(key), dict)
+        merged[key] = _merged(merged[key], value) if both else value
+    return merged
