@@ -98,16 +98,19 @@ def test_a_bad_grid_exits_2_with_one_line_and_runs_nothing(tmp_path, grid, messa
 
 def test_a_grid_of_worlds_trains_each_body_in_each_world(tmp_path):
     (tmp_path / "grid.yaml").write_text(
-        "formations: [snake5]\nworlds: [flat, ice]\nsim: memo\nreference_trials: 0\n"
+        "formations: [quadruped]\nworlds: [flat, ice]\nsim: memo\nreference_trials: 0\n"
         "configs:\n  tiny: {agent: {genetic: {generations: 1, population: 6}, "
         "learning: {trials: 20}}, task: {trial_steps: 4}, workers: 1}\n"
     )
     result = run_cli("sweep", tmp_path / "grid.yaml", "--out", tmp_path / "out", "--jobs", "2")
     assert result.returncode == 0, result.stderr
     rows = {row["run"]: row for row in _rows(tmp_path / "out")}
-    assert set(rows) == {"snake5-flat-paper-snake-tiny-seed0", "snake5-ice-paper-snake-tiny-seed0"}
+    assert set(rows) == {
+        "quadruped-flat-memo-legged-tiny-seed0",
+        "quadruped-ice-memo-legged-tiny-seed0",
+    }
     assert [rows[r]["world"] for r in sorted(rows)] == ["flat", "ice"]
     summary = json.loads(
-        (tmp_path / "out" / "snake5-ice-paper-snake-tiny-seed0" / "summary.json").read_text()
+        (tmp_path / "out" / "quadruped-ice-memo-legged-tiny-seed0" / "summary.json").read_text()
     )
     assert summary["world"] == "ice"
