@@ -21,18 +21,9 @@ def render_run(run: Path, out: Path, camera: CameraConfig) -> Film:
     """Film the run's greedy policy in exact physics (the postures ``qdsega evaluate`` replays,
     replayed anew if the run has no evaluation yet) and write the video to ``out``."""
     _check_suffix(out)
-    _, config, policy = load_run(run)
-    formation = load_run_formation(run, config)
-    evaluation = RunFolder(run).read_evaluation()
-    env = rules_env(formation, config.rules(load_run_world(run)), camera=camera)
-    try:
-        if evaluation is not None:
-            postures = np.array(evaluation["postures"])
-        else:
-            postures = np.array(replay_policy(env, policy)["postures"])
-        return _film(env, postures, out)
-    finally:
-        env.close()
+    film = _run_film(run, camera)
+    write_video(film.frames, out, fps=film.fps)
+    return film
 
 
 def render_postures(
@@ -58,8 +49,14 @@ def render_postures(
 
 
 def final_still(run: Path, camera: CameraConfig) -> np.ndarray:
-    """The last picture of the run's evaluated trial (replayed anew without an evaluation),
-    (height, width, 3) uint8: where its gait took the body."""
+    """The last picture of the run's evaluated trial, (height, width, 3) uint8: where its
+    gait took the body."""
+    return _run_film(run, camera).frames[-1]
+
+
+def _run_film(run: Path, camera: CameraConfig) -> Film:
+    """The run's greedy policy filmed in its own world: the postures ``qdsega evaluate``
+    replayed, or replayed anew where the run has no evaluation yet."""
     _, config, policy = load_run(run)
     formation = load_run_formation(run, config)
     evaluation = RunFolder(run).read_evaluation()
@@ -69,7 +66,7 @@ def final_still(run: Path, camera: CameraConfig) -> np.ndarray:
             postures = np.array(evaluation["postures"])
         else:
             postures = np.array(replay_policy(env, policy)["postures"])
-        return record(env, postures).frames[-1]
+        return record(env, postures)
     finally:
         env.close()
 
