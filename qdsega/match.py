@@ -29,17 +29,22 @@ from qdsega.atomic import replaced_atomically
 
 SCREEN = {"agent": {"genetic": {"generations": 8}}}
 """The screening budget: each body's own preset, cut to 8 generations."""
+PREDICTION_TOLERANCE = 0.10
+"""A cell's prediction holds when the table's prediction is this close to exact physics."""
 
 
 @dataclass(frozen=True)
 class Cell:
     """One formation in one world: the median over seeds of the exact distance (m) and of the
-    ratio to the best reference, the run folder of the median seed, or why it is empty."""
+    ratio to the best reference, the run folder of the median seed, or why it is empty; and the
+    largest relative error of the memo table's prediction over its seeds (None: no prediction,
+    or 0 m exact)."""
 
     distance_m: float | None
     ratio: float | None
     run: str | None
     error: str | None
+    prediction_error: float | None = None
 
 
 def match_grid(
@@ -79,11 +84,17 @@ def matrix(rows: Sequence[dict[str, Any]]) -> dict[tuple[str, str], Cell]:
             continue
         median = ok[(len(ok) - 1) // 2]
         ratios = [r["ratio"] for r in ok if r["ratio"] is not None]
+        errors = [
+            (r["memo_prediction_m"] - r["distance_m"]) / abs(r["distance_m"])
+            for r in ok
+            if r.get("memo_prediction_m") is not None and r["distance_m"] != 0
+        ]
         cells[key] = Cell(
             distance_m=statistics.median(r["distance_m"] for r in ok),
             ratio=statistics.median(ratios) if ratios else None,
             run=median["run"],
             error=None,
+            prediction_error=max(errors, key=abs) if errors else None,
         )
     return cells
 
@@ -149,7 +160,28 @@ def _markdown(
         lines.append(f"| {formation} | " + " | ".join(marked) + " |")
     lines += ["", "| world | best body |", "|---|---|"]
     lines += [f"| {w} | {best.get(w) or 'none moved'} |" for w in worlds]
+    errors = [c.prediction_error for c in cells.values() if c.prediction_error is not None]
+    if errors:
+        held = sum(abs(e) <= PREDICTION_TOLERANCE for e in errors)
+        lines += [
+            "",
+            "The memo table's prediction of the learnt policy against exact physics, the worst "
+            f"seed's relative error: within {PREDICTION_TOLERANCE:.0%} in {held} of "
+            f"{len(errors)} cells.",
+            "",
+            "| formation | " + " | ".join(worlds) + " |",
+            "|---|" + "---|" * len(worlds),
+        ]
+        for formation in formations:
+            row = [_error_text(cells.get((formation, world))) for world in worlds]
+            lines.append(f"| {formation} | " + " | ".join(row) + " |")
     return "\n".join(lines) + "\n"
+
+
+def _error_text(cell: Cell | None) -> str:
+    if cell is None or cell.prediction_error is None:
+        return ""
+    return f"{cell.prediction_error:+.0%}"
 
 
 def _heatmap(

@@ -6,7 +6,7 @@ from __future__ import annotations
 import pytest
 from helpers import TINY_TRAINING, run_cli
 
-from qdsega.match import Cell, best_bodies, matrix
+from qdsega.match import Cell, best_bodies, matrix, write_matrix
 
 
 def _row(formation, world, seed, distance, status="ok", error=None):
@@ -29,6 +29,21 @@ def test_a_cell_is_the_median_of_its_seeds_and_a_failed_cell_keeps_its_reason():
     assert cells["legs", "corridor"].distance_m is None
     assert "inside an obstacle" in cells["legs", "corridor"].error
     assert best_bodies(cells) == {"flat": "legs", "corridor": "snake"}
+
+
+def test_a_cell_keeps_its_worst_prediction_and_the_table_counts_the_cells_that_held(tmp_path):
+    rows = [
+        {**_row("snake", "flat", 0, 1.0), "memo_prediction_m": 1.05},
+        {**_row("snake", "flat", 1, 2.0), "memo_prediction_m": 1.6},
+        {**_row("legs", "flat", 0, 2.0), "memo_prediction_m": 2.0},
+        {**_row("legs", "stairs", 0, 0.0), "memo_prediction_m": 0.3},  # 0 m: no relative error
+    ]
+    cells = matrix(rows)
+    assert cells["snake", "flat"].prediction_error == pytest.approx(-0.2)
+    assert cells["legs", "stairs"].prediction_error is None
+    markdown, _, _ = write_matrix(cells, ["snake", "legs"], ["flat", "stairs"], tmp_path, {})
+    text = markdown.read_text()
+    assert "within 10% in 1 of 2 cells" in text and "| snake | -20% |" in text
 
 
 @pytest.mark.slow

@@ -9,7 +9,7 @@ that names no light leaves the formation's.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
 
@@ -140,6 +140,14 @@ class World:
         worlds existed (its light may differ)."""
         plain = World(name=self.name, description=self.description, file=self.file)
         return self == plain.with_light(self.light)
+
+    @property
+    def is_uniform(self) -> bool:
+        """A level plane with nothing on it, whatever its friction: a move there does not
+        depend on where the body stands."""
+        return self.slope_rad == 0 and self == replace(
+            self, rough=None, stairs=None, boxes=(), corridor=None, ceiling=None
+        )
 
     def with_light(self, light: Light | None) -> World:
         return World(**{**self.__dict__, "light": light})

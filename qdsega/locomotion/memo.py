@@ -9,6 +9,12 @@ the lower agent failed. Starting from a settled posture, not from wherever the r
 be, is the approximation that makes the table possible; ``qdsega evaluate`` measures its cost
 by replaying policies with exact physics.
 
+Where the ground varies (stairs, rough ground, a roof), a move depends on where it is made, so
+each is measured from several starts ``spots`` along the way to the light: the table keeps the
+mean move over them, and the move fails where it failed at any of them, for a trial crosses all
+that ground. So the table holds what the body can expect over the ground ahead, not the move at
+the origin alone.
+
 Missing transitions are filled on demand, grouped by start posture (one settle, a snapshot,
 then every target from that snapshot) and spread over worker processes. Each worker builds the
 world once; every measurement restores a snapshot, so results do not depend on which worker
@@ -26,6 +32,7 @@ from qdsega.agent.world import Transitions
 from qdsega.assembly import assemble
 from qdsega.atomic import replaced_atomically
 from qdsega.description import Formation, World
+from qdsega.errors import WorldError
 from qdsega.locomotion.lower_agent import SETTLE_S, LowerAgent, LowerAgentConfig
 from qdsega.progress import ProgressFactory
 from qdsega.simulation import PhysicsSettings
@@ -38,6 +45,20 @@ PROGRESS_DELAY_S = 5.0
 batches of a training run stay quiet between its per-generation lines."""
 
 _FIELDS = 4  # dx, dy, dtheta, failed
+
+SPOT_SPACING_M = 0.25
+"""How far apart the spots a move is measured from lie along the way to the light (m)."""
+
+
+def spots_toward(light_xy: tuple[float, float], count: int) -> tuple[tuple[float, float], ...]:
+    """``count`` spots from the origin toward the light, ``SPOT_SPACING_M`` apart."""
+    if count < 1:
+        raise ValueError(f"count must be at least 1, got {count}")
+    heading = np.arctan2(light_xy[1], light_xy[0])
+    return tuple(
+        (k * SPOT_SPACING_M * float(np.cos(heading)), k * SPOT_SPACING_M * float(np.sin(heading)))
+        for k in range(count)
+    )
 
 
 class MeasuredTransitions:
@@ -54,8 +75,9 @@ class MeasuredTransitions:
             (:mod:`qdsega.workers.ray_cluster`); the table is the same bit for bit.
         progress: makes the line that shows a batch's transitions measured of all, for
             batches that take longer than ``PROGRESS_DELAY_S`` (None: silent).
-        world: the ground the moves are measured on (default flat): each move from a
-            settled start at the origin, heading +x.
+        world: the ground the moves are measured on (default flat).
+        spots: where each move is measured from a settled start heading +x, as (x, y) (m);
+            default the origin alone.
     """
 
     def __init__(
@@ -69,6 +91,7 @@ class MeasuredTransitions:
         ray: str | None = None,
         progress: ProgressFactory | None = None,
         world: World | None = None,
+        spots: tuple[tuple[float, float], ...] = ((0.0, 0.0),),
     ) -> None:
         if workers < 1:
             raise ValueError(f"workers must be at least 1, got {workers}")
@@ -80,6 +103,9 @@ class MeasuredTransitions:
         self.ray = ray
         self.progress = progress
         self.world = world or World()
+        if not spots:
+            raise ValueError("spots must hold at least one place")
+        self.spots = spots
         self._start = np.array(start_levels or formation.rest_levels(), dtype=np.int64)
         self._table: dict[bytes, np.ndarray] = {}
         self._pool: Pool | None = None
@@ -150,7 +176,7 @@ class MeasuredTransitions:
                 jobs.append((source, np.array(missing)))
         if not jobs:
             return
-        args = (self.formation, self.lower_agent, self.physics, self.world)
+        args = (self.formation, self.lower_agent, self.physics, self.world, self.spots)
         results: Iterator[np.ndarray]
         if self.workers == 1 and self.ray is None:
             _init_worker(*args)
@@ -192,11 +218,13 @@ class _Bench:
         lower_agent: LowerAgentConfig,
         physics: PhysicsSettings,
         world: World,
+        spots: tuple[tuple[float, float], ...],
     ) -> None:
         self.formation = formation
         self.lower_agent = lower_agent
         self.physics = physics
         self.world = world
+        self.spots = spots
         self.sim = BulletSimulation(robot=assemble(formation), settings=physics, world=world)
         self.agent = LowerAgent(sim=self.sim, config=lower_agent)
         self.pristine = self.sim.save_state()
@@ -208,7 +236,11 @@ _bench: _Bench | None = None
 
 
 def _init_worker(
-    formation: Formation, lower_agent: LowerAgentConfig, physics: PhysicsSettings, world: World
+    formation: Formation,
+    lower_agent: LowerAgentConfig,
+    physics: PhysicsSettings,
+    world: World,
+    spots: tuple[tuple[float, float], ...],
 ) -> None:
     global _bench
     if (
@@ -217,27 +249,50 @@ def _init_worker(
         or _bench.lower_agent != lower_agent
         or _bench.physics != physics
         or _bench.world != world
+        or _bench.spots != spots
     ):
         if _bench is not None:
             _bench.sim.close()
-        _bench = _Bench(formation, lower_agent, physics, world)
+        _bench = _Bench(formation, lower_agent, physics, world, spots)
 
 
 def _measure_from(source: np.ndarray, targets: np.ndarray) -> np.ndarray:
-    """Rows (dx m, dy m, dtheta rad, failed 0/1) for ``source -> target``, shape (m, 4)."""
+    """Rows (dx m, dy m, dtheta rad, failed 0/1) for ``source -> target``, shape (m, 4): the
+    mean move over the spots; failed where it failed at any spot."""
     bench = _bench
     assert bench is not None, "worker not initialised"
+    each = np.array([_measure_at(bench, spot, source, targets) for spot in bench.spots])
+    failed = (each[..., 3] > 0.5).any(axis=0)
+    rows = np.zeros((len(targets), _FIELDS))
+    rows[failed, 3] = 1.0
+    rows[~failed, :3] = each[:, ~failed, :3].mean(axis=0)
+    return rows
+
+
+def _measure_at(
+    bench: _Bench, spot: tuple[float, float], source: np.ndarray, targets: np.ndarray
+) -> np.ndarray:
+    """The rows of :func:`_measure_from` from a settled start at ``spot``; every move fails
+    where the body cannot be placed there (inside an obstacle)."""
     sim, agent = bench.sim, bench.agent
+    rows = np.zeros((len(targets), _FIELDS))
     sim.restore_state(bench.pristine)
-    sim.reset(bench.formation.posture_rad(bench.rest))
+    try:
+        sim.reset(bench.formation.posture_rad(bench.rest), xy_m=spot)
+    except WorldError:
+        rows[:, 3] = 1.0
+        return rows
     sim.step(bench.settle_steps)
     if agent.execute(source).failed:  # not reachable from rest: teleport into it instead
         sim.restore_state(bench.pristine)
-        sim.reset(bench.formation.posture_rad(source))
+        try:
+            sim.reset(bench.formation.posture_rad(source), xy_m=spot)
+        except WorldError:
+            rows[:, 3] = 1.0
+            return rows
     sim.step(bench.settle_steps)
     settled = sim.save_state()
     start = agent.pose().planar
-    rows = np.zeros((len(targets), _FIELDS))
     for k, target in enumerate(targets):
         sim.restore_state(settled)
         outcome = agent.execute(target)

@@ -89,6 +89,11 @@ class TrainingConfig:
             step in time instead of moving one level (:func:`qdsega.agent.genetic.vary_gait`),
             in [0, 1] (-). 0: every neighbour a level move (0.5 measured mixed;
             docs/algorithm.md).
+        memo_spots: memo mode: how many places along the way to the light each move is
+            measured from, the table keeping their mean move
+            (:mod:`qdsega.locomotion.memo`); None: 1 (the origin) where the world is uniform
+            (:attr:`qdsega.description.World.is_uniform`), else
+            :data:`qdsega.training.sims.VARIED_GROUND_SPOTS`.
     """
 
     preset: str = DEFAULT_PRESET
@@ -107,6 +112,7 @@ class TrainingConfig:
     optimism: float = 1.0
     local_search: int = 10
     phase_moves: float = 0.0
+    memo_spots: int | None = None
 
     def __post_init__(self) -> None:
         if self.workers < 1:
@@ -117,6 +123,8 @@ class TrainingConfig:
             raise ValueError(f"local_search must not be negative, got {self.local_search}")
         if not 0.0 <= self.phase_moves <= 1.0:
             raise ValueError(f"phase_moves must be in [0, 1], got {self.phase_moves}")
+        if self.memo_spots is not None and self.memo_spots < 1:
+            raise ValueError(f"memo_spots must be at least 1, got {self.memo_spots}")
         if not (self.optimism >= 0 and math.isfinite(self.optimism)):
             raise ValueError(f"optimism must not be negative, got {self.optimism}")
 

@@ -40,7 +40,14 @@ from qdsega.training.interrupt import InterruptWatch
 from qdsega.training.reconfiguration import JointMapping, warm_record, warm_state
 from qdsega.training.run_folder import METRIC_COLUMNS, RunFolder
 from qdsega.training.run_lock import run_lock
-from qdsega.training.sims import Failures, TrainingSim, build_sim, check_sim, leg_states
+from qdsega.training.sims import (
+    Failures,
+    TrainingSim,
+    build_sim,
+    check_sim,
+    leg_states,
+    memo_spots,
+)
 
 HOPELESS_SHARE = 0.9
 """A generation whose verified trials' commands failed at least this often (nearly every trial
@@ -481,6 +488,7 @@ def _finish(
         "formation": formation.name,
         **read_formation_record(folder.path).summary(),
         "world": sim.world.name,
+        "memo_spots": memo_spots(config, sim.world) if config.sim == "memo" else None,
         "world_sha256": world_sha256(folder.path),
         "sim": config.sim,
         "preset": config.preset,

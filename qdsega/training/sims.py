@@ -41,6 +41,8 @@ if TYPE_CHECKING:
 
 _NUMBERS = re.compile(r" by -?[\d.]+ deg| \(tilt -?[\d.]+ deg\)")
 """The measured part of a failure message, left out where failures are counted by kind."""
+VARIED_GROUND_SPOTS = 6
+"""Places a move is measured from in memo mode where the ground varies (1.25 m of the way)."""
 _SEARCH_STREAM = 1_000_000
 """Local-search trials of generation ``g`` draw from a generator seeded ``(seed, g, this)``,
 a stream no exploring trial uses."""
@@ -321,7 +323,7 @@ def build_sim(
         env = rules_env(formation, rules)
         return TrainingSim(EnvWorld(env=env), None, None, task, None, layout, world=rules.world)
     from qdsega.locomotion.exact_trials import ExactTrials
-    from qdsega.locomotion.memo import MeasuredTransitions
+    from qdsega.locomotion.memo import MeasuredTransitions, spots_toward
 
     memo = MeasuredTransitions(
         formation=formation,
@@ -331,6 +333,7 @@ def build_sim(
         ray=config.ray,
         progress=measuring,
         world=rules.world,
+        spots=spots_toward(tuple(task.light), memo_spots(config, rules.world)),
     )
     if (run / RunFolder.TRANSITIONS).is_file():
         memo.load(run / RunFolder.TRANSITIONS)
@@ -358,6 +361,13 @@ def build_sim(
         phase_moves=config.phase_moves,
         seed=config.seed,
     )
+
+
+def memo_spots(config: TrainingConfig, world: World) -> int:
+    """How many places memo mode measures each move from in ``world``."""
+    if config.memo_spots is not None:
+        return config.memo_spots
+    return 1 if world.is_uniform else VARIED_GROUND_SPOTS
 
 
 def leg_states(layout: LegLayout | None, postures: np.ndarray) -> np.ndarray:

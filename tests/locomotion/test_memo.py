@@ -4,8 +4,14 @@ import numpy as np
 import pytest
 
 from qdsega.description import load_formation
+from qdsega.description.world import load_world
 from qdsega.locomotion.lower_agent import LowerAgentConfig
-from qdsega.locomotion.memo import PROGRESS_DELAY_S, MeasuredTransitions
+from qdsega.locomotion.memo import (
+    PROGRESS_DELAY_S,
+    SPOT_SPACING_M,
+    MeasuredTransitions,
+    spots_toward,
+)
 from qdsega.progress import ProgressLine
 from qdsega.simulation.settings import PhysicsSettings
 
@@ -106,3 +112,39 @@ def test_a_batch_shows_its_progress_only_through_the_factory_given(snake5, capsy
     assert made == [("measuring transitions", 9, PROGRESS_DELAY_S)]
     last = stream.getvalue().splitlines()[-1]
     assert last.startswith("measuring transitions 9/9: memo table 9 transitions, elapsed ")
+
+
+def test_a_move_is_the_mean_over_spots_and_fails_where_any_fails():
+    quadruped = load_formation("assemblies/quadruped.yaml")
+    rest = np.array([quadruped.rest_levels()])
+    step = rest.copy()
+    step[0, quadruped.joint_index(quadruped.legs[0].swing_joint)] += 1
+    tunnel = load_world("worlds/tunnel.yaml")  # a roof from 0.4 m: no legged body fits
+    one, inside = ((0.0, 0.0),), ((0.0, 0.0), (0.0, 0.0), (1.0, 0.0))
+
+    def measure(spots, world=None):
+        memo = MeasuredTransitions(
+            formation=quadruped, lower_agent=LowerAgentConfig(), workers=1, world=world,
+            spots=spots,
+        )  # fmt: skip
+        return memo.transitions(rest, step)
+
+    alone = measure(one, tunnel)
+    assert not alone.failed[0, 0]
+    twice = measure(((0.0, 0.0), (0.0, 0.0)), tunnel)
+    assert twice.dx[0, 0] == alone.dx[0, 0] and not twice.failed[0, 0]  # same spot, same mean
+    assert measure(inside, tunnel).failed[0, 0]  # placed inside the roof at one of three
+    flat = measure(((0.0, 0.0), (1.0, 0.0)))  # the plane is the same everywhere: about the same
+    assert flat.dx[0, 0] == pytest.approx(measure(one).dx[0, 0], abs=1e-3)
+
+
+def test_spots_lie_toward_the_light():
+    assert spots_toward((10.0, 0.0), 3) == (
+        (0.0, 0.0),
+        (SPOT_SPACING_M, 0.0),
+        (2 * SPOT_SPACING_M, 0.0),
+    )
+    (_, (x, y)) = spots_toward((0.0, -5.0), 2)
+    assert x == pytest.approx(0.0, abs=1e-12) and y == pytest.approx(-SPOT_SPACING_M)
+    with pytest.raises(ValueError, match="at least 1"):
+        spots_toward((1.0, 0.0), 0)
