@@ -27,6 +27,11 @@ FIGURES = (LEARNING_CURVE, QTABLE_SIZE, TRAJECTORIES, GAIT, SNAKE_POSES, JOINT_A
 and an evaluation (``qdsega evaluate``)."""
 
 
+def body_in_world(summary: dict[str, Any]) -> str:
+    """A run's body and world, as titles name them (runs from before worlds walked on flat)."""
+    return f"{summary['formation']} in {summary.get('world', 'flat')}"
+
+
 def selected_generations(count: int, shown: int = 6) -> list[int]:
     """About ``shown`` generation numbers from 1 to ``count``, first and last included."""
     return sorted({round(g) for g in np.linspace(1, count, min(shown, count))})
@@ -170,7 +175,7 @@ def _learning_curve(
     ax.set_xlabel("generation")
     ax.xaxis.set_major_locator(MaxNLocator(integer=True))
     ax.set_ylabel("distance toward the light (m)")
-    ax.set_title(f"{summary['formation']}: learning curve")
+    ax.set_title(f"{body_in_world(summary)}: learning curve")
     # Below the axes: inside, it hid the curves and the 0.9 line (the figure grows to fit).
     ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(0, -0.16))
     ax.grid(alpha=0.3)

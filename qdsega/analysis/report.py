@@ -14,7 +14,7 @@ import json
 from pathlib import Path
 from typing import Any
 
-from qdsega.analysis.plots import FIGURES
+from qdsega.analysis.plots import FIGURES, body_in_world
 from qdsega.atomic import replaced_atomically
 from qdsega.errors import RunFolderError
 from qdsega.training.formation_copy import read_formation_record
@@ -50,7 +50,8 @@ def write_report(run: Path | str, out: Path | None = None) -> Path:
         formation = (folder / folder.FORMATION_DIR / record.formation).read_text(encoding="utf-8")
     except OSError as exc:
         raise RunFolderError(f"corrupt run folder ({exc})", file=run) from None
-    title = f"qdsega run: {summary['formation']} ({summary.get('sim')}, seed {summary.get('seed')})"
+    run_of = f"{summary.get('sim')}, seed {summary.get('seed')}"
+    title = f"qdsega run: {body_in_world(summary)} ({run_of})"
     parts = [
         f"<h1>{html.escape(title)}</h1>",
         "<h2>Summary</h2>",

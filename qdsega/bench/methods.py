@@ -13,7 +13,8 @@
 * ``ppo``: :mod:`qdsega.bench.ppo`.
 
 The sequence methods play one trial per candidate in the task's arena; their answer is the best
-sequence that completed a trial so far, and its distance there is exact by construction.
+sequence that completed a trial so far, and its distance there is exact by construction. Every
+method learns and is judged in the task's world (:meth:`BenchTask.load_world`).
 """
 
 from __future__ import annotations
@@ -37,7 +38,7 @@ from qdsega.training.run_folder import RunFolder
 Method = Callable[[BenchTask, int, Path], Curve]
 
 GA_POPULATION = {"msm": 64, "pybullet": 16}
-"""Sequences per GA generation, by world (-): fewer in PyBullet, whose budget holds about a
+"""Sequences per GA generation, by simulator (-): fewer in PyBullet, whose budget holds about a
 hundred trials."""
 GA_ELITES = 2
 """Best sequences a GA generation keeps unchanged (-)."""
@@ -74,7 +75,7 @@ def _qdsega(
     """A training run into ``folder/run`` (resumed where a crash left it), read back."""
     run = folder / "run"
     config = task.config(seed=seed, learning=learning, genetic=genetic)
-    train_or_resume(resolve_formation(task.formation), config, run)
+    train_or_resume(resolve_formation(task.formation), config, run, world=task.load_world())
     column = RunFolder(run).read_metrics()
     steps = np.cumsum(column["steps"]) if task.sim == "msm" else column["sim_steps"]
     return Curve(steps.astype(np.int64), column["greedy_exact_m"], np.cumsum(column["wall_s"]))

@@ -2,7 +2,8 @@
 
 PPO learns in ``qdsega/TableLocomotion-v0`` (:mod:`qdsega.locomotion.table_env`): the MSM, or for
 a PyBullet task the memo table, each pair measured in PyBullet on first use, so PPO runs at
-table speed where QDSEGA does and spends the same budget (MSM steps; PyBullet steps measured).
+table speed where QDSEGA does and spends the same budget (MSM steps; PyBullet steps measured),
+in the task's world (its table measured there from as many spots as QDSEGA's).
 Its hyperparameters are stable-baselines3's defaults but for ``n_steps``, the rollout length,
 which is also how often its deterministic policy is scored in exact physics (the MSM itself, or
 :class:`qdsega.locomotion.env.LocomotionEnv`); those scoring episodes are not counted in its
@@ -22,9 +23,10 @@ import numpy as np
 from qdsega.bench.curve import Curve
 from qdsega.bench.tasks import LEARNING_SIM, BenchTask
 from qdsega.locomotion.table_env import TableLocomotionEnv
+from qdsega.training.sims import memo_spots
 
 ENVS = {"msm": 16, "pybullet": 1}
-"""Environments PPO steps side by side per world: in the MSM 16, so that each policy call
+"""Environments PPO steps side by side per simulator: in the MSM 16, so that each policy call
 serves 16 steps (stable-baselines3 spends most of its time building one distribution per joint
 per call); in PyBullet 1, since each environment would measure its own memo table (-)."""
 ROLLOUT_STEPS = {"msm": 2048, "pybullet": 256}
@@ -53,10 +55,15 @@ def ppo_curve(task: BenchTask, seed: int) -> Curve:
         ) from None
     torch.set_num_threads(1)
     torch.distributions.Distribution.set_default_validate_args(False)
-    formation, config = task.load(), task.config(seed=seed)
+    formation, config, world = task.load(), task.config(seed=seed), task.load_world()
     envs = [
         TableLocomotionEnv(
-            formation=formation, sim=LEARNING_SIM[task.sim], task=config.task, msm=config.msm
+            formation=formation,
+            sim=LEARNING_SIM[task.sim],
+            task=config.task,
+            msm=config.msm,
+            world=world,
+            spots=memo_spots(config, world),
         )
         for _ in range(ENVS[task.sim])
     ]
@@ -94,18 +101,13 @@ def ppo_curve(task: BenchTask, seed: int) -> Curve:
 
 
 def _exact_env(task: BenchTask) -> gym.Env[np.ndarray, np.ndarray]:
-    """Where PPO's policy is scored: the MSM itself, or exact PyBullet."""
+    """Where PPO's policy is scored: the MSM itself, or exact PyBullet in the task's world."""
     formation, config = task.load(), task.config(seed=0)
     if task.sim == "msm":
         return TableLocomotionEnv(formation=formation, sim="msm", task=config.task, msm=config.msm)
-    from qdsega.locomotion.env import LocomotionEnv  # starts PyBullet: only here
+    from qdsega.locomotion.env import rules_env  # starts PyBullet: only here
 
-    return LocomotionEnv(
-        formation=formation,
-        task=config.task,
-        lower_agent=config.lower_agent,
-        physics=config.physics,
-    )
+    return rules_env(formation, task.exact_rules())
 
 
 def _episode(env: Any, model: Any) -> float:

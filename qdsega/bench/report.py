@@ -107,7 +107,7 @@ def _task_section(
     lines = [
         f"## {task.name}",
         "",
-        f"{task.formation} in the {'MSM' if task.sim == 'msm' else 'PyBullet world'}; "
+        f"{task.formation} in {_place(task)}; "
         f"yardstick: {yardstick_name}, {yardstick:.3f} m; {task.seeds} seeds per method; "
         f"budget {_count(task.budget_steps)} steps. {task.forced}",
         "",
@@ -148,6 +148,15 @@ def _task_section(
         lines.append(f"| {method} | {len(reached)} of {len(curves)} | {steps} | {wall} |")
     lines += ["", *_headline(task, per_method, yardstick), ""]
     return lines
+
+
+def _place(task: BenchTask) -> str:
+    """Where the task walks, in words: ``the MSM``, or ``the PyBullet world stairs (ten 4 cm
+    steps, 0.3 m deep)``."""
+    if task.sim == "msm":
+        return "the MSM"
+    world = task.load_world()
+    return f"the PyBullet world {world.name} ({world.description})"
 
 
 def _headline(task: BenchTask, per_method: dict[str, list[Curve]], yardstick: float) -> list[str]:

@@ -1,5 +1,5 @@
-"""The benchmark's tasks: a formation, the world its learners spend their budget in, and that
-budget; with the yardstick each method's distance is measured against.
+"""The benchmark's tasks: a formation, the simulator and world its learners spend their budget
+in, and that budget; with the yardstick each method's distance is measured against.
 
 * ``legged12-msm``: legged12 in the Minimal Simulation Model; every method's steps are MSM
   steps and the yardstick is the model's exact optimum (:func:`qdsega.msm.msm_optimum`).
@@ -9,23 +9,37 @@ budget; with the yardstick each method's distance is measured against.
   600 trials): not an optimum, the best gait known.
 
 Every task uses its formation's own preset (:func:`qdsega.training.config.default_preset`)
-for the rules: levels, lower agent, trial length, reward eq. (17), penalty.
+for the rules: levels, lower agent, trial length, reward eq. (17), penalty. A PyBullet task may
+walk in another world than the flat plane (:func:`in_world`, ``qdsega bench --world``): every
+method learns and is judged there, and the yardstick is the reference gait found there.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from collections.abc import Sequence
+from dataclasses import dataclass, replace
+from pathlib import Path
 from typing import Any
 
 from qdsega.bench.arena import Arena, MSMArena
-from qdsega.description import Formation, load_formation, resolve_formation
+from qdsega.description import (
+    Formation,
+    World,
+    load_formation,
+    load_world,
+    resolve_formation,
+    resolve_world,
+)
+from qdsega.locomotion.rules import ExactRules
 from qdsega.msm import LegLayout, MinimalSimulationModel, msm_optimum
 from qdsega.task import Task
 from qdsega.training.config import TrainingConfig, resolve_config
 
 LEARNING_SIM = {"msm": "msm", "pybullet": "memo"}
-"""A task's world -> the table world its learners learn in (``qdsega train --sim``, and
+"""A task's simulator -> the table world its learners learn in (``qdsega train --sim``, and
 :class:`qdsega.locomotion.table_env.TableLocomotionEnv`)."""
+FLAT = "flat"
+"""The world every task walks in unless told otherwise: the plane of before worlds existed."""
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -33,9 +47,11 @@ class BenchTask:
     """One task of the benchmark.
 
     Attributes:
-        name: ``FORMATION-WORLD``.
+        name: ``FORMATION-SIM``, then ``-WORLD`` outside the flat plane.
         formation: a shipped formation's name.
         sim: ``msm`` or ``pybullet``.
+        world: the ground of a PyBullet task: a shipped world's name or a world file
+            (:func:`read_world`); the MSM knows only ``flat``.
         budget_steps: upper-agent steps each method may spend in the world (-).
         seeds: runs of each method, seeds 0 .. seeds - 1.
         generations: QDSEGA's generations (its run ends there or at the budget) (-).
@@ -59,16 +75,26 @@ class BenchTask:
     methods: tuple[str, ...]
     budgets: tuple[int, ...]
     forced: str = ""
+    world: str = FLAT
 
     def __post_init__(self) -> None:
         if self.sim not in LEARNING_SIM:
             raise ValueError(f"sim must be one of {', '.join(LEARNING_SIM)}, got {self.sim!r}")
         if self.seeds < 1 or self.budget_steps < 1 or self.generations < 1:
             raise ValueError("seeds, budget_steps and generations must be at least 1")
+        if self.sim == "msm" and self.world != FLAT:
+            raise ValueError(f"the MSM knows no terrain: {self.name} cannot walk in {self.world}")
+
+    def load_world(self) -> World:
+        """The world its learners walk in and are judged in."""
+        return read_world(self.world)
 
     def load(self) -> Formation:
-        """The formation."""
-        return load_formation(resolve_formation(self.formation))
+        """The formation, its light the world's where the world names one (as training and
+        :class:`qdsega.locomotion.env.LocomotionEnv` light it)."""
+        formation = load_formation(resolve_formation(self.formation))
+        light = self.load_world().light
+        return formation if light is None else formation.with_light(light)
 
     def config(
         self,
@@ -96,6 +122,10 @@ class BenchTask:
         """The task's rules for this formation's light."""
         return Task(config=self.config(seed=0).task, light_xy=self.load().light.position_m)
 
+    def exact_rules(self) -> ExactRules:
+        """What exact physics judges its trials by: the preset's rules, in its world."""
+        return self.config(seed=0).rules(self.load_world())
+
     def arena(self) -> Arena:
         """A place to play posture sequences, with one worker."""
         formation, config = self.load(), self.config(seed=0)
@@ -103,7 +133,7 @@ class BenchTask:
             return MSMArena(model=_msm(formation, config), task=self.rules())
         from qdsega.locomotion.exact_trials import ExactTrials  # starts PyBullet: only here
 
-        return ExactTrials(formation=formation, rules=config.rules(), workers=1)
+        return ExactTrials(formation=formation, rules=self.exact_rules(), workers=1)
 
     def yardstick(self) -> tuple[str, float]:
         """What distances are measured against: its name and distance (m)."""
@@ -115,12 +145,47 @@ class BenchTask:
             return "the MSM's exact optimum", optimum.distance_m
         from qdsega.baselines.reference_search import DEFAULT_BUDGET_TRIALS, reference_gait
 
-        reference = reference_gait(
-            formation,
-            rules=config.rules(),
-            workers=1,
-        )
+        reference = reference_gait(formation, rules=self.exact_rules(), workers=1)
         return f"the CMA-ES reference gait ({DEFAULT_BUDGET_TRIALS} trials)", reference.distance_m
+
+
+def read_world(world: str) -> World:
+    """The world ``world`` names: for ``flat`` the plane of before worlds existed, which no
+    file describes (so flat runs are as they were, no copy of a world in their folders); else
+    a shipped world's name or a world file.
+
+    Raises:
+        WorldError: no shipped world of that name, or a file that does not read as a world.
+    """
+    return World() if world == FLAT else load_world(resolve_world(world))
+
+
+def in_world(
+    tasks: Sequence[BenchTask], world: str
+) -> tuple[tuple[BenchTask, ...], tuple[BenchTask, ...]]:
+    """``tasks`` in ``world`` (a shipped world's name or a world file): the tasks kept and
+    those left out. On a flat plane with no light of its own every task is kept as it is (its
+    name, and so its results' folder, unchanged); elsewhere the PyBullet tasks walk there,
+    named ``FORMATION-pybullet-WORLD``, and the MSM tasks, which know no terrain, are left out.
+
+    Raises:
+        WorldError: as :func:`read_world`.
+    """
+    found = read_world(world)
+    if found.is_flat and found.light is None:
+        return tuple(tasks), ()
+    kept = tuple(
+        replace(task, name=task.name + suffix(world), world=world)
+        for task in tasks
+        if task.sim != "msm"
+    )
+    return kept, tuple(task for task in tasks if task.sim == "msm")
+
+
+def suffix(world: str) -> str:
+    """What a task's name, and the benchmark's default folder, gain outside the flat plane:
+    ``-NAME``, a shipped world's name or a world file's stem."""
+    return f"-{Path(world).stem}"
 
 
 def _msm(formation: Formation, config: TrainingConfig) -> MinimalSimulationModel:

@@ -23,27 +23,42 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--out", type=Path, metavar="DIR",
         help="where runs, results and the report go (default benchmarks, with --quick "
-        "runs/bench-quick)",
+        "runs/bench-quick; in a world other than flat, -WORLD appended)",
     )  # fmt: skip
     parser.add_argument("--jobs", type=int, default=2, metavar="N", help="runs at a time")
+    parser.add_argument(
+        "--world", metavar="WORLD",
+        help="run the PyBullet tasks in this world, a world file or a shipped name (flat, ice, "
+        "slope, stairs, rubble, tunnel, corridor; docs/worlds.md), leaving out the MSM task, "
+        "which knows no terrain; default flat",
+    )  # fmt: skip
 
 
 def run(args: argparse.Namespace) -> int:
     from qdsega.bench.runner import run_bench
     from qdsega.bench.runs import bench_runs
-    from qdsega.bench.tasks import FULL, QUICK
+    from qdsega.bench.tasks import FLAT, FULL, QUICK, in_world, suffix
     from qdsega.progress import ProgressLine
 
     if args.jobs < 1:
         raise ConfigError(f"--jobs must be at least 1, got {args.jobs}")
-    tasks = QUICK if args.quick else FULL
+    every = QUICK if args.quick else FULL
+    tasks, left_out = in_world(every, args.world or FLAT)  # a bad world: WorldError, exit 2
+    if not tasks:
+        raise ConfigError(
+            f"the MSM knows no terrain and every task is in it: none walks in {args.world}"
+        )
     if (
         any("ppo" in t.methods for t in tasks)
         and importlib.util.find_spec("stable_baselines3") is None
     ):
         raise ConfigError("the ppo method needs stable-baselines3: pip install 'qdsega[bench]'")
-    out = args.out or Path("runs/bench-quick" if args.quick else "benchmarks")
-    command = "qdsega bench" + (" --quick" if args.quick else "") + f" --out {out}"
+    place = "" if tasks == every else suffix(args.world)
+    out = args.out or Path(("runs/bench-quick" if args.quick else "benchmarks") + place)
+    world = "" if args.world is None else f" --world {args.world}"
+    command = "qdsega bench" + (" --quick" if args.quick else "") + world + f" --out {out}"
+    for task in left_out:
+        print(f"qdsega bench: {task.name} left out: the MSM knows no terrain", flush=True)
     print(f"qdsega bench: {len(bench_runs(tasks))} runs -> {out}", flush=True)
     file, errors = run_bench(
         tasks, out, jobs=args.jobs, command=command, log=_log, progress=ProgressLine

@@ -8,7 +8,9 @@ in a :class:`qdsega.agent.world.TransitionProvider`: the Minimal Simulation Mode
 legged formations) or the PyBullet transitions measured once each (``memo``: a pair not yet in
 the table is measured on first use, in this process). So a learner other than QDSEGA (PPO, say)
 runs at table speed in the same world QDSEGA learns in. The memo world here is the plain
-table, keyed by the posture pair alone, without the corrections a training run's grounding adds.
+table, keyed by the posture pair alone, without the corrections a training run's grounding adds;
+on ground other than the flat plane (``world``) each move is measured from ``spots`` places
+along the way to the light, as a training run's table is.
 
 Registered with Gymnasium as ``qdsega/TableLocomotion-v0`` when :mod:`qdsega` is imported::
 
@@ -24,7 +26,7 @@ import gymnasium as gym
 import numpy as np
 
 from qdsega.agent.world import TransitionProvider
-from qdsega.description import Formation, load_formation, resolve_formation
+from qdsega.description import Formation, World, load_formation, resolve_formation
 from qdsega.msm import LegLayout, MinimalSimulationModel, MSMParameters
 from qdsega.task import Pose, Task, TaskConfig
 
@@ -40,6 +42,10 @@ class TableLocomotionEnv(gym.Env[np.ndarray, np.ndarray]):
         sim: ``msm`` or ``memo`` (module docstring).
         task: trial length, reward, penalty and exterior bins.
         msm: the MSM's constants (``sim="msm"``).
+        world: the ground memo moves are measured on (default the flat plane; the MSM knows
+            no other); its light, if it has one, replaces the formation's.
+        spots: places along the way to the light each memo move is measured from, its mean
+            kept (:func:`qdsega.locomotion.memo.spots_toward`).
     """
 
     metadata: dict[str, Any] = {"render_modes": []}  # noqa: RUF012 - Gymnasium's
@@ -51,14 +57,21 @@ class TableLocomotionEnv(gym.Env[np.ndarray, np.ndarray]):
         sim: str = "msm",
         task: TaskConfig | None = None,
         msm: MSMParameters | None = None,
+        world: World | None = None,
+        spots: int = 1,
     ) -> None:
         if sim not in SIMS:
             raise ValueError(f"sim must be one of {', '.join(SIMS)}, got {sim!r}")
+        world = world or World()
+        if sim == "msm" and not world.is_flat:
+            raise ValueError(f"the MSM knows no terrain: {world.name} needs sim='memo'")
         if not isinstance(formation, Formation):
             formation = load_formation(resolve_formation(Path(formation)))
+        if world.light is not None:
+            formation = formation.with_light(world.light)
         self.formation = formation
         self.task = Task(config=task or TaskConfig(), light_xy=formation.light.position_m)
-        self.provider = _provider(formation, sim, msm or MSMParameters())
+        self.provider = _provider(formation, sim, msm or MSMParameters(), world, spots)
         levels = [len(joint.levels_rad) for joint in formation.joints]
         self.action_space = gym.spaces.MultiDiscrete(levels)
         self.observation_space = gym.spaces.MultiDiscrete([*levels, self.task.n_exterior])
@@ -111,10 +124,18 @@ class TableLocomotionEnv(gym.Env[np.ndarray, np.ndarray]):
         }
 
 
-def _provider(formation: Formation, sim: str, msm: MSMParameters) -> TransitionProvider:
+def _provider(
+    formation: Formation, sim: str, msm: MSMParameters, world: World, spots: int
+) -> TransitionProvider:
     if sim == "msm":
         return MinimalSimulationModel(legs=LegLayout.from_formation(formation), params=msm)
     from qdsega.locomotion.lower_agent import LowerAgentConfig  # starts PyBullet: only here
-    from qdsega.locomotion.memo import MeasuredTransitions
+    from qdsega.locomotion.memo import MeasuredTransitions, spots_toward
 
-    return MeasuredTransitions(formation=formation, lower_agent=LowerAgentConfig(), workers=1)
+    return MeasuredTransitions(
+        formation=formation,
+        lower_agent=LowerAgentConfig(),
+        workers=1,
+        world=world,
+        spots=spots_toward(formation.light.position_m, spots),
+    )

@@ -123,3 +123,11 @@ def test_a_body_that_starts_inside_an_obstacle_is_refused(tmp_path):
 def test_an_unknown_world_name_lists_the_shipped_ones():
     with pytest.raises(WorldError, match="nor a shipped world \\(shipped: corridor, flat"):
         resolve_world("moon")
+
+
+@pytest.mark.parametrize(
+    ("name", "uniform"),
+    [("flat", True), ("ice", True), ("slope", False), ("stairs", False), ("tunnel", False)],
+)
+def test_a_world_is_uniform_when_nothing_but_its_grip_differs_from_the_plane(name, uniform):
+    assert load_world(resolve_world(name)).is_uniform is uniform

@@ -15,6 +15,7 @@ from qdsega.baselines.reference_search import reference_key
 from qdsega.description import load_formation, load_world, resolve_formation, resolve_world
 from qdsega.locomotion.rules import ExactRules
 from qdsega.training.formation_copy import load_run_world
+from qdsega.training.sims import VARIED_GROUND_SPOTS
 
 SNAKE = load_formation(resolve_formation("snake5"))
 
@@ -64,6 +65,7 @@ def test_a_run_keeps_its_world_and_reads_it_from_its_copy(tmp_path):
     assert summary["world"] == "hill" and len(summary["world_sha256"]) == 64
     assert (run / "world.yaml").read_text() == world.read_text()
     assert summary["light_xy"] == [20.0, 0.0]  # the world's light
+    assert summary["memo_spots"] == VARIED_GROUND_SPOTS  # a slope varies under the body
     moved = tmp_path / "moved"
     shutil.copytree(run, moved)
     world.unlink()  # the run needs its copy only
@@ -72,3 +74,5 @@ def test_a_run_keeps_its_world_and_reads_it_from_its_copy(tmp_path):
     assert evaluated.returncode == 0, evaluated.stderr
     evaluation = json.loads((moved / "evaluation.json").read_text())
     assert evaluation["distance_m"] == pytest.approx(summary["distance_m"], abs=1e-9)
+    assert run_cli("report", moved).returncode == 0
+    assert "qdsega run: snake5 in hill (memo" in (moved / "report.html").read_text()
