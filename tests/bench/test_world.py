@@ -52,7 +52,9 @@ def test_a_world_file_gives_its_light_to_the_formation(tmp_path):
 def test_the_arena_plays_in_the_tasks_world():
     (ice,), _ = in_world(QUICK, "ice")
     levels = [len(joint.levels_rad) for joint in SNAKE.load().joints]
-    sequence = np.random.default_rng(0).integers(0, levels, size=(SNAKE.rules().trial_steps, 5))
+    sequence = np.random.default_rng(0).integers(
+        0, levels, size=(SNAKE.rules().trial_steps, len(levels))
+    )
     distances = []
     for task in (SNAKE, ice):
         arena = task.arena()

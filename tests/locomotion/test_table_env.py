@@ -12,7 +12,7 @@ from qdsega import TABLE_ENV_ID
 from qdsega.agent.qlearning import learn_on_table
 from qdsega.agent.space import ExplorationSpace
 from qdsega.baselines.classic_gaits import leg_gait
-from qdsega.description import load_formation
+from qdsega.description import World, load_formation, load_world, resolve_world
 from qdsega.description.shipped import ASSEMBLIES_DIR
 from qdsega.errors import FormationError
 from qdsega.locomotion.table_env import TableLocomotionEnv
@@ -95,3 +95,20 @@ def test_bad_arguments_are_refused():
     env.reset(seed=0)
     with pytest.raises(ValueError, match="is not in MultiDiscrete"):
         env.step(np.full(len(env.formation.joints), 99))
+
+
+def test_a_memo_env_measures_in_its_world_and_the_msm_knows_none():
+    ice = load_world(resolve_world("ice"))
+    actions = np.random.default_rng(0).integers(0, 9, size=(10, 4))
+    covered = []
+    for world in (None, ice):
+        env = TableLocomotionEnv(formation="snake5", sim="memo", world=world, spots=2)
+        assert env.provider.world == (world or World()) and len(env.provider.spots) == 2
+        env.reset(seed=0)
+        for action in actions:
+            env.step(action)
+        covered.append(env.distance_covered())
+        env.close()
+    assert covered[1] != covered[0]  # the same postures move the body otherwise on ice
+    with pytest.raises(ValueError, match="the MSM knows no terrain"):
+        TableLocomotionEnv(formation="quadruped", sim="msm", world=ice)
