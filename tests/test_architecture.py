@@ -20,6 +20,7 @@ LAYERS = (
     ("qdsega.locomotion",),
     ("qdsega.baselines",),
     ("qdsega.training",),
+    ("qdsega.adaptation",),
     ("qdsega.analysis",),
     ("qdsega.sweep", "qdsega.bench"),
     ("qdsega.match",),
