@@ -26,11 +26,10 @@ import numpy as np
 import yaml
 
 from qdsega.atomic import replaced_atomically
+from qdsega.training.run import PREDICTION_TOLERANCE
 
 SCREEN = {"agent": {"genetic": {"generations": 8}}}
 """The screening budget: each body's own preset, cut to 8 generations."""
-PREDICTION_TOLERANCE = 0.10
-"""A cell's prediction holds when the table's prediction is this close to exact physics."""
 
 
 @dataclass(frozen=True)

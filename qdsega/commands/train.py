@@ -5,13 +5,20 @@ from __future__ import annotations
 import argparse
 from functools import partial
 from pathlib import Path
+from typing import Any
 
 from qdsega.agent.config import PRESETS
 from qdsega.description import load_formation, load_world, resolve_formation, resolve_world
 from qdsega.errors import ConfigError
 from qdsega.training.config import SIMULATORS, TrainingConfig, resolve_config
 from qdsega.training.progress import ProgressDisplay
-from qdsega.training.run import TrainingInterrupted, budget_overrides, resume, train
+from qdsega.training.run import (
+    PREDICTION_TOLERANCE,
+    TrainingInterrupted,
+    budget_overrides,
+    resume,
+    train,
+)
 
 NAME = "train"
 HELP = "learn locomotion with QDSEGA and write a run folder (or continue one with --resume)"
@@ -158,7 +165,23 @@ def run(args: argparse.Namespace) -> int:
         f"{facts}, {summary['env_steps']} steps in "
         f"{summary['wall_s']:.1f} s -> {out}"
     )
+    warning = prediction_warning(summary)
+    if warning is not None:
+        print(f"qdsega train: {warning}")
     return 0
+
+
+def prediction_warning(summary: dict[str, Any]) -> str | None:
+    """What to say of a memo run whose table mispredicted its result by more than
+    ``PREDICTION_TOLERANCE``, else None."""
+    error = summary["prediction_error"]
+    if summary["sim"] != "memo" or error is None or abs(error) <= PREDICTION_TOLERANCE:
+        return None
+    return (
+        f"the table's prediction is {error:+.0%} off exact physics (more than "
+        f"{PREDICTION_TOLERANCE:.0%}): the table does not hold where this body went "
+        "(docs/worlds.md); the distance above is exact physics"
+    )
 
 
 def run_config(args: argparse.Namespace) -> TrainingConfig:

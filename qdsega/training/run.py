@@ -49,6 +49,9 @@ from qdsega.training.sims import (
     memo_spots,
 )
 
+PREDICTION_TOLERANCE = 0.10
+"""The learner's world predicts a result well when its prediction is this close to exact
+physics (relative): the memo table holds where the run went."""
 HOPELESS_SHARE = 0.9
 """A generation whose verified trials' commands failed at least this often (nearly every trial
 failing at its first command) warns once: the body may not be able to move at all."""

@@ -11,6 +11,7 @@ import pytest
 import yaml
 from helpers import TINY_TRAINING, run_cli
 
+from qdsega.commands.train import prediction_warning
 from qdsega.description.shipped import ASSEMBLIES_DIR
 
 
@@ -81,3 +82,11 @@ def test_a_body_that_cannot_move_says_why(project, tmp_path):
     summary = json.loads((run / "summary.json").read_text())
     assert summary["failed_commands_share"] == 1.0
     assert summary["most_common_failure"] == "trunk touched the ground"
+
+
+def test_a_memo_run_whose_table_missed_says_so():
+    summary = {"sim": "memo", "prediction_error": 1.4}
+    assert "+140% off exact physics (more than 10%)" in prediction_warning(summary)
+    assert prediction_warning({**summary, "prediction_error": -0.09}) is None
+    assert prediction_warning({**summary, "prediction_error": None}) is None  # 0 m exact
+    assert prediction_warning({"sim": "pybullet", "prediction_error": 1.4}) is None
