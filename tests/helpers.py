@@ -3,22 +3,26 @@
 from __future__ import annotations
 
 import contextlib
+import copy
 import csv
 import io
 import json
+import math
 import os
 import signal
 import subprocess
 import sys
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
-from qdsega.description.shipped import ASSEMBLIES_DIR, UNITS_DIR
+from qdsega.description.shipped import ASSEMBLIES_DIR, UNITS_DIR, WORLDS_DIR
 
 SHIPPED_FORMATIONS = sorted(ASSEMBLIES_DIR.glob("*.yaml"))
+SHIPPED_WORLDS = sorted(WORLDS_DIR.glob("*.yaml"))
 SHIPPED_UNITS = sorted(p for p in UNITS_DIR.iterdir() if p.is_dir() and p.name != "__pycache__")
 TINY_TRAINING = """\
 workers: 1
@@ -115,3 +119,59 @@ def assert_same_result(a: Path, b: Path, why: str = "") -> None:
         with np.load(a / "transitions.npz") as x, np.load(b / "transitions.npz") as y:
             assert np.array_equal(x["pairs"], y["pairs"]), why
             assert np.array_equal(x["values"], y["values"]), why
+
+
+# Mutants of YAML data (formations, worlds): one change each.
+KeyPath = tuple[str | int, ...]
+SCALAR_MUTATIONS = {
+    "negative": lambda v: -v if isinstance(v, int | float) and v != 0 else -1,
+    "huge": lambda v: 1.0e300,
+    "huge-integer": lambda v: 10**400,
+    "nan": lambda v: math.nan,
+    "nonsense": lambda v: "zzz nonsense",
+}
+
+
+def _nodes(data: Any, path: KeyPath = ()) -> Iterator[tuple[KeyPath, Any]]:
+    """Every node of plain YAML data with its path, parents first."""
+    yield path, data
+    if isinstance(data, dict | list):
+        for key, value in data.items() if isinstance(data, dict) else enumerate(data):
+            yield from _nodes(value, (*path, key))
+
+
+def _mutated(data: Any, path: KeyPath, change: Any) -> Any:
+    """A deep copy of ``data`` with ``change(node)`` applied to the node at ``path``."""
+    mutant = copy.deepcopy(data)
+    parent = mutant
+    for key in path[:-1]:
+        parent = parent[key]
+    if not path:
+        return change(mutant)
+    parent[path[-1]] = change(parent[path[-1]])
+    return mutant
+
+
+def _without(container: dict | list, key: str | int) -> dict | list:
+    container = copy.copy(container)
+    del container[key]
+    return container
+
+
+def mutants(data: Any) -> Iterator[tuple[str, Any]]:
+    """(label, mutant) pairs: every single-point mutation of ``data``."""
+    for path, node in _nodes(data):
+        where = ".".join(map(str, path)) or "(top)"
+        if isinstance(node, dict):
+            for key in node:
+                yield f"{where}: -{key}", _mutated(data, path, lambda n, k=key: _without(n, k))
+            yield f"{where}: +unknown", _mutated(data, path, lambda n: {**n, "colour": "red"})
+        elif isinstance(node, list):
+            for index in range(len(node)):
+                yield (
+                    f"{where}: -[{index}]",
+                    _mutated(data, path, lambda n, i=index: _without(n, i)),
+                )
+        else:
+            for label, change in SCALAR_MUTATIONS.items():
+                yield f"{where}={label}", _mutated(data, path, change)

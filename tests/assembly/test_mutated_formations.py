@@ -6,16 +6,13 @@ digits), NaN or nonsense text; a mapping loses one key or gains an unknown one; 
 one item. The CLI runs in-process so that the corpus takes seconds, not minutes.
 """
 
-import copy
-import math
 import time
-from collections.abc import Iterator
 from typing import Any
 
 import numpy as np
 import pytest
 import yaml
-from helpers import SHIPPED_FORMATIONS
+from helpers import SHIPPED_FORMATIONS, mutants
 
 from qdsega.assembly import assemble
 from qdsega.cli import main
@@ -24,60 +21,7 @@ from qdsega.simulation.bullet import BulletSimulation
 
 pytestmark = pytest.mark.slow  # end to end: make test-fast leaves it out
 
-KeyPath = tuple[str | int, ...]
-SCALAR_MUTATIONS = {
-    "negative": lambda v: -v if isinstance(v, int | float) and v != 0 else -1,
-    "huge": lambda v: 1.0e300,
-    "huge-integer": lambda v: 10**400,
-    "nan": lambda v: math.nan,
-    "nonsense": lambda v: "zzz nonsense",
-}
 SECONDS_PER_MUTANT = 5.0
-
-
-def _nodes(data: Any, path: KeyPath = ()) -> Iterator[tuple[KeyPath, Any]]:
-    """Every node of plain YAML data with its path, parents first."""
-    yield path, data
-    if isinstance(data, dict | list):
-        for key, value in data.items() if isinstance(data, dict) else enumerate(data):
-            yield from _nodes(value, (*path, key))
-
-
-def _mutated(data: Any, path: KeyPath, change: Any) -> Any:
-    """A deep copy of ``data`` with ``change(node)`` applied to the node at ``path``."""
-    mutant = copy.deepcopy(data)
-    parent = mutant
-    for key in path[:-1]:
-        parent = parent[key]
-    if not path:
-        return change(mutant)
-    parent[path[-1]] = change(parent[path[-1]])
-    return mutant
-
-
-def _without(container: dict | list, key: str | int) -> dict | list:
-    container = copy.copy(container)
-    del container[key]
-    return container
-
-
-def mutants(data: Any) -> Iterator[tuple[str, Any]]:
-    """(label, mutant) pairs: every single-point mutation of ``data``."""
-    for path, node in _nodes(data):
-        where = ".".join(map(str, path)) or "(top)"
-        if isinstance(node, dict):
-            for key in node:
-                yield f"{where}: -{key}", _mutated(data, path, lambda n, k=key: _without(n, k))
-            yield f"{where}: +unknown", _mutated(data, path, lambda n: {**n, "colour": "red"})
-        elif isinstance(node, list):
-            for index in range(len(node)):
-                yield (
-                    f"{where}: -[{index}]",
-                    _mutated(data, path, lambda n, i=index: _without(n, i)),
-                )
-        else:
-            for label, change in SCALAR_MUTATIONS.items():
-                yield f"{where}={label}", _mutated(data, path, change)
 
 
 def _check_mutant(data: Any, folder: Any, capfd: pytest.CaptureFixture[str]) -> str:
