@@ -41,7 +41,7 @@ from qdsega.description import World, load_formation, load_world, resolve_format
 from qdsega.errors import ConfigError, QdsegaError, WorldError
 from qdsega.progress import ProgressFactory
 from qdsega.training.config import SIMULATORS, default_preset, resolve_config
-from qdsega.training.run import train_or_resume
+from qdsega.training.run import TrainingInterrupted, train_or_resume
 from qdsega.training.run_folder import RunFolder
 from qdsega.yaml_reader import YamlDocument, load_yaml
 
@@ -199,7 +199,10 @@ def run_one(run: SweepRun, folder: Path) -> str:
         overrides = {"sim": run.sim, "seed": run.seed}
         config = resolve_config(preset=run.preset, file=run.config_file, overrides=overrides)
         world = None if run.world is None else load_world(run.world)
-        train_or_resume(run.formation, config, folder, world=world)
+        try:
+            train_or_resume(run.formation, config, folder, world=world)
+        except TrainingInterrupted:
+            raise KeyboardInterrupt from None  # Ctrl-C stops the sweep, not just this run
         if RunFolder(folder).read_evaluation() is None:
             step = "evaluate"
             budget = (
@@ -260,8 +263,12 @@ def run_sweep(
                     pool.submit(run_one, run, folder): index
                     for index, (run, folder) in enumerate(zip(runs, folders, strict=True))
                 }
-                for future in as_completed(futures):
-                    ended(futures[future], future.result())
+                try:
+                    for future in as_completed(futures):
+                        ended(futures[future], future.result())
+                except BaseException:  # Ctrl-C: the runs not started never start
+                    pool.shutdown(cancel_futures=True)
+                    raise
     finally:
         if line is not None:
             line.close()

@@ -4,10 +4,11 @@ from __future__ import annotations
 
 import csv
 import json
+import signal
 from pathlib import Path
 
 import pytest
-from helpers import run_cli
+from helpers import run_cli, start_cli, stop_when
 
 pytestmark = pytest.mark.slow  # end to end: make test-fast leaves it out
 
@@ -114,3 +115,20 @@ def test_a_grid_of_worlds_trains_each_body_in_each_world(tmp_path):
         (tmp_path / "out" / "quadruped-ice-memo-legged-tiny-seed0" / "summary.json").read_text()
     )
     assert summary["world"] == "ice"
+
+
+def test_ctrl_c_stops_the_sweep_and_the_runs_not_started_never_start(tmp_path):
+    grid = tmp_path / "grid.yaml"
+    grid.write_text(
+        "formations: [quadruped]\nseeds: [0, 1, 2]\nsim: msm\n"
+        "configs:\n  slow: {agent: {genetic: {generations: 200, population: 6}}, workers: 1}\n"
+        "reference_trials: 0\n"
+    )
+    out = tmp_path / "out"
+    process = start_cli("sweep", grid, "--out", out, "--jobs", "1")
+    first = out / "quadruped-paper-legged-slow-seed0" / "checkpoint.npz"
+    stop_when(process, first.is_file, signal.SIGINT)
+    _, stderr = process.communicate(timeout=60)
+    assert process.returncode == 130, stderr
+    assert "qdsega sweep: interrupted" in stderr
+    assert not (out / "quadruped-paper-legged-slow-seed2").exists()
