@@ -17,6 +17,7 @@ from qdsega.commands import (
     match,
     plot,
     render,
+    repertoire,
     report,
     sweep,
     train,
@@ -34,7 +35,7 @@ every command's options: qdsega COMMAND --help; the guides: docs/ in the source.
 ShowWarning = Callable[[Warning | str, type[Warning], str, int, TextIO | None, str | None], None]
 """The signature of ``warnings.showwarning``."""
 
-COMMANDS = (assemble, train, evaluate, plot, render, report, sweep, match, bench)
+COMMANDS = (assemble, train, evaluate, plot, render, report, sweep, match, bench, repertoire)
 """Each module provides ``NAME``, ``HELP``, ``add_arguments(parser)`` and ``run(args) -> int``."""
 
 

@@ -44,3 +44,16 @@ def turn_and_drift(poses: np.ndarray, cycle_length: int) -> np.ndarray:
     turn = float(np.unwrap(poses[:, 2])[-1] - poses[0, 2]) / cycles  # whole turns count
     drift = dy / cycles
     return np.clip(np.array([turn / TURN_BOUND_RAD, drift / DRIFT_BOUND_M]) / 2.0 + 0.5, 0.0, 1.0)
+
+
+def descriptor_size(layout: LegLayout | None) -> int:
+    """How many numbers describe a gait of a body: one per leg, else turn and drift."""
+    return 2 if layout is None else layout.n_legs
+
+
+def describe(layout: LegLayout | None, cycle: np.ndarray, poses: np.ndarray) -> np.ndarray:
+    """A gait's descriptor: duty factors for a legged body (``layout``), else the turn and
+    drift of the trial it walked (``poses``, (T + 1, 3))."""
+    if layout is not None:
+        return duty_factors(layout, cycle)
+    return turn_and_drift(poses, len(cycle))

@@ -13,7 +13,7 @@ from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
 
-from qdsega.description.formation import Light
+from qdsega.description.formation import Formation, Light
 from qdsega.description.formation_reader import read_light
 from qdsega.errors import WorldError
 from qdsega.yaml_reader import Interval, KeyPath, Reader, load_yaml
@@ -148,6 +148,10 @@ class World:
         return self.slope_rad == 0 and self == replace(
             self, rough=None, stairs=None, boxes=(), corridor=None, ceiling=None
         )
+
+    def lights(self, formation: Formation) -> Formation:
+        """``formation`` with this world's light, where the world has one."""
+        return formation if self.light is None else formation.with_light(self.light)
 
     def with_light(self, light: Light | None) -> World:
         return World(**{**self.__dict__, "light": light})

@@ -1,0 +1,206 @@
+"""A body's repertoire: a MAP-Elites archive of open-loop posture cycles that walk, each played
+in exact physics, built in batches and resumable.
+
+Every gait is played as one trial of the body's own rules (its preset's task, lower agent and
+physics, in a world) from the rest posture; one that fails is not kept, so every elite is a
+verified gait. The gaits are played in exact physics, not in the memo table: a random cycle
+rarely shares a posture with another, so the table would measure about as many moves as the
+trial commands and save nothing.
+
+A repertoire folder holds ``repertoire.npz`` (the archive, the search's state) and
+``repertoire.json`` (what it is of and how it was built); both are replaced after every batch,
+so a build that is stopped, however, continues from its last batch to the same archive.
+"""
+
+from __future__ import annotations
+
+import json
+import time
+from dataclasses import asdict, dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from qdsega.adaptation.archive import Archive, cvt_centroids, grid_centroids
+from qdsega.adaptation.descriptor import describe, descriptor_size
+from qdsega.adaptation.map_elites import MapElites
+from qdsega.agent.policy import SequencePolicy
+from qdsega.atomic import replaced_atomically
+from qdsega.description import Formation
+from qdsega.errors import RunFolderError
+from qdsega.locomotion.rules import ExactRules
+from qdsega.msm import LegLayout
+from qdsega.progress import ProgressFactory
+
+ARCHIVE = "repertoire.npz"
+RECORD = "repertoire.json"
+GRID_DIMS = 2
+"""Descriptor spaces of at most this many dimensions get a regular grid, larger ones a CVT."""
+
+
+@dataclass(frozen=True, kw_only=True)
+class RepertoireSettings:
+    """How a repertoire is built.
+
+    Attributes:
+        evaluations: gaits played in all (-).
+        cells: the archive's cells, about (a grid rounds to a whole number a side) (-).
+        batch: gaits played between two saves (-).
+        initial: random gaits before variations of elites (-).
+        max_cycle: the longest cycle, in postures (-).
+        seed: the seed of the CVT and of the search.
+    """
+
+    evaluations: int = 2000
+    cells: int = 128
+    batch: int = 32
+    initial: int = 200
+    max_cycle: int = 6
+    seed: int = 0
+
+    def __post_init__(self) -> None:
+        for name in ("evaluations", "cells", "batch", "initial"):
+            if getattr(self, name) < 1:
+                raise ValueError(f"{name} must be at least 1, got {getattr(self, name)}")
+        if self.max_cycle < 2:
+            raise ValueError(f"max_cycle must be at least 2, got {self.max_cycle}")
+
+
+def empty_archive(formation: Formation, settings: RepertoireSettings) -> Archive:
+    """The archive a repertoire of ``formation`` starts from."""
+    layout = LegLayout.from_formation(formation) if formation.legs else None
+    dims = descriptor_size(layout)
+    if dims <= GRID_DIMS:
+        centroids = grid_centroids(dims, max(1, round(settings.cells ** (1 / dims))))
+    else:
+        rng = np.random.default_rng([settings.seed, 1])
+        centroids = cvt_centroids(dims, settings.cells, rng)
+    return Archive.empty(centroids, max_cycle=settings.max_cycle, n_joints=len(formation.joints))
+
+
+def build_repertoire(
+    formation: Formation,
+    out: Path,
+    *,
+    rules: ExactRules,
+    settings: RepertoireSettings,
+    workers: int,
+    progress: ProgressFactory | None = None,
+) -> dict[str, Any]:
+    """Build (or continue) the repertoire of ``formation`` in folder ``out``; returns its
+    record (``repertoire.json``).
+
+    Raises:
+        RunFolderError: ``out`` holds a repertoire of another body or other settings, or a
+            corrupt one.
+    """
+    out.mkdir(parents=True, exist_ok=True)
+    layout = LegLayout.from_formation(formation) if formation.legs else None
+    levels = np.array([len(j.levels_rad) for j in formation.joints], dtype=np.int64)
+    record = _record(formation, rules, settings)
+    archive, search, told, elapsed = _resume(out, formation, settings, record)
+    emitter = MapElites(archive=archive, levels=levels, rng=search, initial=settings.initial)
+    emitter.told = told
+    line = None
+    if progress is not None:
+        line = progress("repertoire", settings.evaluations, initial=emitter.told)
+    from qdsega.locomotion.exact_trials import ExactTrials  # starts PyBullet: only here
+
+    start = time.perf_counter()
+    try:
+        with ExactTrials(formation=formation, rules=rules, workers=workers) as trials:
+            while emitter.told < settings.evaluations:
+                gaits = emitter.ask(min(settings.batch, settings.evaluations - emitter.told))
+                played = trials.rollouts(
+                    [SequencePolicy(commands=g) for g in gaits], steps=rules.task.trial_steps
+                )
+                pairs = list(zip(gaits, played, strict=True))
+                emitter.tell(
+                    gaits,
+                    np.array([describe(layout, g, t.poses) for g, t in pairs]),
+                    np.array([np.nan if t.failed else t.distance_m for t in played]),
+                )
+                record.update(
+                    evaluations_done=emitter.told,
+                    wall_s=elapsed + time.perf_counter() - start,
+                    filled=len(archive.filled),
+                    coverage=archive.coverage,
+                    best_m=float(archive.fitness[archive.best()]) if len(archive.filled) else None,
+                )
+                _save(out, archive, emitter, record)
+                if line is not None:
+                    line.update(emitter.told, f"{len(archive.filled)} cells filled")
+    finally:
+        if line is not None:
+            line.close()
+    return record
+
+
+def load_repertoire(folder: Path) -> tuple[Archive, dict[str, Any]]:
+    """The archive and record of a repertoire folder.
+
+    Raises:
+        RunFolderError: no repertoire there, or a corrupt one.
+    """
+    if not (folder / ARCHIVE).is_file() or not (folder / RECORD).is_file():
+        message = "not a repertoire (no repertoire.npz and repertoire.json)"
+        raise RunFolderError(message, file=folder)
+    try:
+        record = json.loads((folder / RECORD).read_text(encoding="utf-8"))
+        with np.load(folder / ARCHIVE) as data:
+            archive = Archive.from_state({k: data[k] for k in data.files})
+            int(data["told"])
+        if not isinstance(record, dict) or len(record["joints"]) != archive.gaits.shape[2]:
+            raise ValueError("the record's joints do not fit the archive")
+    except (OSError, ValueError, KeyError, TypeError) as exc:
+        raise RunFolderError(f"corrupt repertoire ({exc})", file=folder) from None
+    return archive, record
+
+
+def _record(formation: Formation, rules: ExactRules, settings: RepertoireSettings) -> dict:
+    layout = LegLayout.from_formation(formation) if formation.legs else None
+    return {
+        "formation": formation.name,
+        "joints": [j.name for j in formation.joints],
+        "levels": [len(j.levels_rad) for j in formation.joints],
+        "world": rules.world.name,
+        "descriptor": "duty factor per leg" if layout else "turn and drift per cycle",
+        "descriptor_names": list(layout.names) if layout else ["turn", "drift"],
+        "trial_steps": rules.task.trial_steps,
+        "settings": asdict(settings),
+    }
+
+
+def _resume(
+    out: Path, formation: Formation, settings: RepertoireSettings, record: dict
+) -> tuple[Archive, np.random.Generator, int, float]:
+    """The archive, the search's generator, the gaits played and the wall time so far: from
+    ``out`` where it holds a repertoire, else fresh."""
+    search = np.random.default_rng([settings.seed, 2])
+    if not (out / ARCHIVE).is_file():
+        return empty_archive(formation, settings), search, 0, 0.0
+    archive, saved = load_repertoire(out)
+    keys = ("formation", "joints", "levels", "world", "settings")
+    mine, theirs = ({k: dict(r.get(k) or {}) if k == "settings" else r.get(k) for k in keys}
+                    for r in (record, saved))  # fmt: skip
+    for both in (mine, theirs):
+        both["settings"].pop("evaluations", None)  # a build may go on to a larger budget
+    if mine != theirs:
+        message = "holds a repertoire of another body, world or settings; choose another --out"
+        raise RunFolderError(message, file=out)
+    with np.load(out / ARCHIVE) as data:
+        search.bit_generator.state = json.loads(str(data["search_state"]))
+        told = int(data["told"])
+    return archive, search, told, float(saved.get("wall_s", 0.0))
+
+
+def _save(out: Path, archive: Archive, emitter: MapElites, record: dict) -> None:
+    """The archive with the search's state and count, then the record (which a resumed
+    build reads only for its wall time)."""
+    state = json.dumps(emitter.rng.bit_generator.state)
+    told = np.array(emitter.told)
+    with replaced_atomically(out / ARCHIVE) as partial:
+        np.savez_compressed(partial, search_state=np.array(state), told=told, **archive.state())
+    with replaced_atomically(out / RECORD) as partial:
+        partial.write_text(json.dumps(record, indent=2) + "\n", encoding="utf-8")

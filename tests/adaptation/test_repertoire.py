@@ -1,0 +1,63 @@
+"""A repertoire build: gaits that walk in exact physics fill the archive; the same seed gives
+the same archive, and so does a build stopped and continued; bad input is one line, exit 2,
+nothing written."""
+
+import json
+import shutil
+
+import numpy as np
+import pytest
+from helpers import run_cli
+
+from qdsega.adaptation.repertoire import (
+    RepertoireSettings,
+    build_repertoire,
+    load_repertoire,
+)
+from qdsega.description import load_formation, resolve_formation
+from qdsega.errors import RunFolderError
+from qdsega.training.config import resolve_config
+
+pytestmark = pytest.mark.slow  # exact physics: seconds a build
+
+QUADRUPED = load_formation(resolve_formation("quadruped"))
+RULES = resolve_config(overrides={"sim": "memo"}, formation=QUADRUPED).rules()
+
+
+def _build(out, evaluations):
+    settings = RepertoireSettings(evaluations=evaluations, cells=16, batch=16, initial=16)
+    return build_repertoire(QUADRUPED, out, rules=RULES, settings=settings, workers=1)
+
+
+def test_a_build_stopped_and_continued_gives_the_same_archive(tmp_path):
+    whole = _build(tmp_path / "whole", 48)
+    assert whole["evaluations_done"] == 48 and whole["filled"] >= 1
+    archive, record = load_repertoire(tmp_path / "whole")
+    assert record["descriptor_names"] == ["L1", "L2", "R1", "R2"]
+    best = archive.gait(archive.best())
+    assert np.all(best >= 0) and archive.fitness[archive.best()] == whole["best_m"]
+    _build(tmp_path / "parts", 16)
+    _build(tmp_path / "parts", 48)  # as after a kill: it goes on from its last batch
+    again, _ = load_repertoire(tmp_path / "parts")
+    for name, value in archive.state().items():
+        assert np.array_equal(value, again.state()[name], equal_nan=True), name
+
+
+def test_another_body_or_a_corrupt_archive_is_refused_in_one_line(tmp_path):
+    out = tmp_path / "rep"
+    _build(out, 16)
+    before = {p.name: p.read_bytes() for p in out.iterdir()}
+    result = run_cli("repertoire", "hexapod", "--evaluations", "16", "--out", out)
+    assert result.returncode == 2 and len(result.stderr.splitlines()) == 1, result.stderr
+    assert "another body" in result.stderr
+    assert {p.name: p.read_bytes() for p in out.iterdir()} == before  # nothing written
+    broken = tmp_path / "broken"
+    shutil.copytree(out, broken)
+    (broken / "repertoire.npz").write_bytes(b"not an archive")
+    with pytest.raises(RunFolderError, match="corrupt repertoire"):
+        load_repertoire(broken)
+    record = json.loads((out / "repertoire.json").read_text())
+    (broken / "repertoire.json").write_text(json.dumps({**record, "joints": ["one"]}))
+    shutil.copy(out / "repertoire.npz", broken / "repertoire.npz")
+    with pytest.raises(RunFolderError, match="do not fit"):
+        load_repertoire(broken)
