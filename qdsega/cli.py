@@ -11,6 +11,7 @@ from typing import TextIO
 
 from qdsega import __version__
 from qdsega.commands import (
+    adapt,
     assemble,
     bench,
     evaluate,
@@ -35,7 +36,9 @@ every command's options: qdsega COMMAND --help; the guides: docs/ in the source.
 ShowWarning = Callable[[Warning | str, type[Warning], str, int, TextIO | None, str | None], None]
 """The signature of ``warnings.showwarning``."""
 
-COMMANDS = (assemble, train, evaluate, plot, render, report, sweep, match, bench, repertoire)
+COMMANDS = (
+    assemble, train, evaluate, plot, render, report, sweep, match, bench, repertoire, adapt
+)  # fmt: skip
 """Each module provides ``NAME``, ``HELP``, ``add_arguments(parser)`` and ``run(args) -> int``."""
 
 

@@ -9,7 +9,9 @@ trial commands and save nothing.
 
 A repertoire folder holds ``repertoire.npz`` (the archive, the search's state) and
 ``repertoire.json`` (what it is of and how it was built); both are replaced after every batch,
-so a build that is stopped, however, continues from its last batch to the same archive.
+so a build that is stopped, however, continues from its last batch to the same archive. Like a
+run folder, it keeps its own copy of the formation (``formation/``, ``formation.json``) and of
+the world (``world.yaml``), which adaptation reads.
 """
 
 from __future__ import annotations
@@ -32,6 +34,7 @@ from qdsega.errors import RunFolderError
 from qdsega.locomotion.rules import ExactRules
 from qdsega.msm import LegLayout
 from qdsega.progress import ProgressFactory
+from qdsega.training.formation_copy import FormationSnapshot, copy_world
 
 ARCHIVE = "repertoire.npz"
 RECORD = "repertoire.json"
@@ -95,11 +98,15 @@ def build_repertoire(
         RunFolderError: ``out`` holds a repertoire of another body or other settings, or a
             corrupt one.
     """
-    out.mkdir(parents=True, exist_ok=True)
     layout = LegLayout.from_formation(formation) if formation.legs else None
     levels = np.array([len(j.levels_rad) for j in formation.joints], dtype=np.int64)
     record = _record(formation, rules, settings)
     archive, search, told, elapsed = _resume(out, formation, settings, record)
+    if told == 0:
+        snapshot = FormationSnapshot.of(formation)  # read before anything is written
+        out.mkdir(parents=True, exist_ok=True)
+        snapshot.write(out)
+        copy_world(rules.world, out)
     emitter = MapElites(archive=archive, levels=levels, rng=search, initial=settings.initial)
     emitter.told = told
     line = None

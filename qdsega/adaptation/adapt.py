@@ -1,0 +1,125 @@
+"""Trial and error on a changed body, guided by the intact body's repertoire (IT&E).
+
+Every elite gait of the repertoire is mapped onto the changed body joint by joint
+(:class:`qdsega.training.reconfiguration.JointMapping`: matched joints at the nearest level,
+added ones at rest, dropped and locked ones gone). Then, one exact trial at a time, the gait of
+the highest upper confidence bound of the trial model (:class:`qdsega.adaptation.trial_model.
+TrialModel`, the archive's fitness as its prior mean) is played on the changed body, and the
+model learns what it did; the search stops when a trial reaches ``STOP_SHARE`` of the best
+predicted fitness, or after ``trials`` trials. Nothing is random: the same repertoire and body
+give the same trials.
+
+An adaptation folder holds ``adapt.json`` (the trials, the gait found, why it stopped, the
+joints' mapping) and ``gait.csv`` (the trial of the gait found: its cycle repeated for a
+trial's commands, one posture of level indices a row, as ``qdsega render FORMATION
+--postures`` takes it).
+"""
+
+from __future__ import annotations
+
+import json
+import time
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from qdsega.adaptation.repertoire import load_repertoire
+from qdsega.adaptation.trial_model import STOP_SHARE, TrialModel
+from qdsega.agent.policy import SequencePolicy
+from qdsega.atomic import replaced_atomically
+from qdsega.description import Formation
+from qdsega.errors import FormationError
+from qdsega.training.config import TrainingConfig, resolve_config
+from qdsega.training.formation_copy import load_run_formation, load_run_world
+from qdsega.training.reconfiguration import JointMapping
+
+DEFAULT_TRIALS = 20
+"""Exact trials an adaptation may run (IT&E's budget)."""
+RESULT = "adapt.json"
+GAIT = "gait.csv"
+
+
+def adapt(
+    repertoire: Path, changed: Formation, out: Path, *, trials: int = DEFAULT_TRIALS
+) -> dict[str, Any]:
+    """Adapt ``changed`` with the repertoire in folder ``repertoire``; write ``out``.
+
+    Raises:
+        RunFolderError: not a repertoire, or a corrupt one.
+        FormationError: ``changed`` has no actuated joint in common with the repertoire's
+            body.
+    """
+    if trials < 1:
+        raise ValueError(f"trials must be at least 1, got {trials}")
+    archive, record = load_repertoire(repertoire)
+    intact = load_run_formation(repertoire, TrainingConfig())
+    world = load_run_world(repertoire)
+    changed = world.lights(changed)
+    mapping = JointMapping.between(intact, changed)
+    if not mapping.matched:
+        message = f"no actuated joint in common with the repertoire's body ({intact.name})"
+        raise FormationError(message, file=changed.file)
+    cells = archive.filled
+    if not len(cells):
+        raise FormationError("the repertoire holds no gait that walks", file=changed.file)
+    rest = np.array(changed.rest_levels(), dtype=np.int64)
+    gaits = [mapping.postures(archive.gait(int(c)), rest) for c in cells]
+    prior = archive.fitness[cells]
+    model = TrialModel(
+        descriptors=archive.descriptors[cells],
+        prior=prior,
+        signal=max(float(np.std(prior)), 0.1 * float(np.max(np.abs(prior))), 1e-3),
+    )
+    rules = resolve_config(overrides={"sim": "memo"}, formation=changed).rules(world)
+    from qdsega.locomotion.exact_trials import ExactTrials  # starts PyBullet: only here
+
+    start = time.perf_counter()
+    played: list[dict[str, Any]] = []
+    with ExactTrials(formation=changed, rules=rules, workers=1) as exact:
+        while not model.done(trials):
+            k = model.next_cell()
+            mean, _ = model.posterior()
+            (trial,) = exact.rollouts(
+                [SequencePolicy(commands=gaits[k])], steps=rules.task.trial_steps
+            )
+            model.tell(k, trial.distance_m)
+            played.append(
+                {
+                    "cell": int(cells[k]),
+                    "predicted_m": float(mean[k]),
+                    "intact_m": float(prior[k]),
+                    "distance_m": trial.distance_m,
+                    "failure": trial.failure,
+                    "wall_s": time.perf_counter() - start,
+                }
+            )
+    mean, _ = model.posterior()
+    best = int(np.argmax(model.observed))
+    found = model.tried[best]
+    reached = max(model.observed) >= STOP_SHARE * float(np.max(mean))
+    result = {
+        "repertoire": str(repertoire.resolve()),
+        "intact": record["formation"],
+        "formation": changed.name,
+        "formation_file": None if changed.file is None else str(Path(changed.file).resolve()),
+        "world": world.name,
+        "joints": mapping.report(),
+        "trials": played,
+        "distance_m": model.observed[best],
+        "trial_found": best + 1,
+        "cell": int(cells[found]),
+        "gait": gaits[found].tolist(),
+        "stopped": f"a trial reached {STOP_SHARE:.0%} of the best predicted"
+        if reached
+        else f"after {len(played)} trials",
+        "best_predicted_m": float(np.max(mean)),
+        "wall_s": time.perf_counter() - start,
+    }
+    out.mkdir(parents=True, exist_ok=True)
+    with replaced_atomically(out / GAIT) as partial:
+        commands = np.resize(gaits[found], (rules.task.trial_steps, len(rest)))
+        np.savetxt(partial, commands, fmt="%d", delimiter=",")
+    with replaced_atomically(out / RESULT) as partial:
+        partial.write_text(json.dumps(result, indent=2) + "\n", encoding="utf-8")
+    return result

@@ -1,0 +1,41 @@
+"""``qdsega adapt``: find a gait for a changed body in a few exact trials, from a repertoire."""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+from qdsega.errors import ConfigError
+
+NAME = "adapt"
+HELP = (
+    "adapt a changed body (a unit lost, locked or added) with the intact body's repertoire: "
+    "gaits tried in exact physics, each chosen by a model that every trial corrects"
+)
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("repertoire", type=Path, metavar="REPERTOIRE", help="of qdsega repertoire")
+    parser.add_argument(
+        "--formation", required=True, metavar="CHANGED", help="the changed body: a file or name"
+    )
+    parser.add_argument("--trials", type=int, default=20, metavar="N", help="at most (20)")
+    parser.add_argument("--out", type=Path, metavar="DIR", help="default runs/adapt-NAME")
+
+
+def run(args: argparse.Namespace) -> int:
+    # Imported here: it starts PyBullet, which the other commands need not load.
+    from qdsega.adaptation.adapt import adapt
+    from qdsega.description import load_formation, resolve_formation
+
+    if args.trials < 1:
+        raise ConfigError(f"--trials must be at least 1, got {args.trials}")
+    changed = load_formation(resolve_formation(args.formation))
+    out = args.out or Path("runs") / f"adapt-{changed.name}"
+    result = adapt(args.repertoire, changed, out, trials=args.trials)
+    print(
+        f"{changed.name}: {result['distance_m']:.4f} m with exact physics at trial "
+        f"{result['trial_found']} of {len(result['trials'])} (stopped: {result['stopped']}; "
+        f"{result['wall_s']:.1f} s) -> {out}"
+    )
+    return 0

@@ -1,0 +1,55 @@
+"""Adaptation: a repertoire's gaits mapped onto a changed body and tried in exact physics; the
+same repertoire and body give the same trials; a body with no joint in common, or a corrupt
+repertoire, is one line, exit 2, and nothing written."""
+
+import json
+
+import numpy as np
+import pytest
+from helpers import run_cli
+
+from qdsega.adaptation.adapt import adapt
+from qdsega.adaptation.repertoire import RepertoireSettings, build_repertoire
+from qdsega.analysis.render import read_postures
+from qdsega.description import load_formation, resolve_formation
+from qdsega.training.config import resolve_config
+
+pytestmark = pytest.mark.slow  # exact physics: seconds
+
+
+@pytest.fixture(scope="module")
+def repertoire(tmp_path_factory):
+    quadruped = load_formation(resolve_formation("quadruped"))
+    rules = resolve_config(overrides={"sim": "memo"}, formation=quadruped).rules()
+    out = tmp_path_factory.mktemp("repertoire")
+    settings = RepertoireSettings(evaluations=48, cells=16, batch=16, initial=16)
+    build_repertoire(quadruped, out, rules=rules, settings=settings, workers=1)
+    return out
+
+
+def test_a_leg_lost_is_adapted_to_with_the_mapped_gaits_and_the_same_trials_twice(
+    repertoire, tmp_path
+):
+    tripod = load_formation(resolve_formation("quadruped_tripod"))
+    first = adapt(repertoire, tripod, tmp_path / "a", trials=3)
+    assert first["joints"]["dropped"] == ["R2_swing_joint", "R2_lift_joint"]
+    assert 1 <= len(first["trials"]) <= 3 and first["formation"] == "quadruped_tripod"
+    assert first["distance_m"] == max(t["distance_m"] for t in first["trials"])
+    commands = read_postures(tmp_path / "a" / "gait.csv", len(tripod.joints))
+    assert len(commands) == 30 and np.array_equal(commands[: len(first["gait"])], first["gait"])
+    second = adapt(repertoire, tripod, tmp_path / "b", trials=3)
+    strip = [{k: v for k, v in t.items() if k != "wall_s"} for t in first["trials"]]
+    assert strip == [{k: v for k, v in t.items() if k != "wall_s"} for t in second["trials"]]
+
+
+def test_a_body_with_no_joint_in_common_or_a_corrupt_repertoire_is_refused(repertoire, tmp_path):
+    out = tmp_path / "adapt"
+    result = run_cli("adapt", repertoire, "--formation", "snake5", "--out", out)
+    assert result.returncode == 2 and len(result.stderr.splitlines()) == 1, result.stderr
+    assert "no actuated joint in common" in result.stderr and not out.exists()
+    broken = tmp_path / "broken"
+    broken.mkdir()
+    (broken / "repertoire.npz").write_bytes(b"junk")
+    (broken / "repertoire.json").write_text(json.dumps({"joints": []}))
+    result = run_cli("adapt", broken, "--formation", "quadruped_tripod", "--out", out)
+    assert result.returncode == 2 and "corrupt repertoire" in result.stderr and not out.exists()
