@@ -46,11 +46,11 @@ def test_a_build_stopped_and_continued_gives_the_same_archive(tmp_path):
 def test_another_body_or_a_corrupt_archive_is_refused_in_one_line(tmp_path):
     out = tmp_path / "rep"
     _build(out, 16)
-    before = {p.name: p.read_bytes() for p in out.iterdir()}
+    before = {p: p.read_bytes() for p in out.rglob("*") if p.is_file()}
     result = run_cli("repertoire", "hexapod", "--evaluations", "16", "--out", out)
     assert result.returncode == 2 and len(result.stderr.splitlines()) == 1, result.stderr
     assert "another body" in result.stderr
-    assert {p.name: p.read_bytes() for p in out.iterdir()} == before  # nothing written
+    assert {p: p.read_bytes() for p in out.rglob("*") if p.is_file()} == before  # no write
     broken = tmp_path / "broken"
     shutil.copytree(out, broken)
     (broken / "repertoire.npz").write_bytes(b"not an archive")
