@@ -131,7 +131,7 @@ def evaluate_on(run: Path | str, other: Path | str) -> tuple[dict[str, Any], Pat
     source = load_run_formation(run, config)
     world = load_run_world(run)
     target = load_formation(resolve_formation(other))
-    target = config.with_light(target if world.light is None else target.with_light(world.light))
+    target = config.with_light(world.lights(target))
     check_sim(target, replace(config, sim="memo"))  # the lower agent must drive it
     mapping = JointMapping.between(source, target)
     env = rules_env(target, config.rules(world))

@@ -93,8 +93,7 @@ class BenchTask:
         """The formation, its light the world's where the world names one (as training and
         :class:`qdsega.locomotion.env.LocomotionEnv` light it)."""
         formation = load_formation(resolve_formation(self.formation))
-        light = self.load_world().light
-        return formation if light is None else formation.with_light(light)
+        return self.load_world().lights(formation)
 
     def config(
         self,

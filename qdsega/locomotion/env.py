@@ -93,8 +93,8 @@ class LocomotionEnv(gym.Env[np.ndarray, np.ndarray]):
             formation = load_formation(resolve_formation(formation))
         if world is not None and not isinstance(world, World):
             world = load_world(resolve_world(world))
-        if world is not None and world.light is not None:
-            formation = formation.with_light(world.light)
+        if world is not None:
+            formation = world.lights(formation)
         self.world = world or World()
         if render_mode not in (None, *self.metadata["render_modes"]):
             raise ValueError(f"render_mode must be None or 'rgb_array', got {render_mode!r}")

@@ -67,8 +67,7 @@ class TableLocomotionEnv(gym.Env[np.ndarray, np.ndarray]):
             raise ValueError(f"the MSM knows no terrain: {world.name} needs sim='memo'")
         if not isinstance(formation, Formation):
             formation = load_formation(resolve_formation(Path(formation)))
-        if world.light is not None:
-            formation = formation.with_light(world.light)
+        formation = world.lights(formation)
         self.formation = formation
         self.task = Task(config=task or TaskConfig(), light_xy=formation.light.position_m)
         self.provider = _provider(formation, sim, msm or MSMParameters(), world, spots)

@@ -158,8 +158,7 @@ def load_run_formation(run: Path, config: TrainingConfig) -> Formation:
                 stacklevel=2,
             )
     formation = load_formation(copy / record.formation, units_dir=copy / record.units_dir)
-    light = load_run_world(run).light
-    return config.with_light(formation if light is None else formation.with_light(light))
+    return config.with_light(load_run_world(run).lights(formation))
 
 
 def copy_world(world: World, run: Path) -> None:

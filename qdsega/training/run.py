@@ -144,7 +144,7 @@ def train(
     out = Path(out)
     folder = RunFolder(out)
     original = load_formation(formation_file)
-    lit = original if world is None or world.light is None else original.with_light(world.light)
+    lit = original if world is None else world.lights(original)
     check_sim(config.with_light(lit), config, world)
     warm = None
     if warm_start is not None:
