@@ -279,6 +279,7 @@ def check_sim(formation: Formation, config: TrainingConfig, world: World | None 
         FormationError: a legless formation in the MSM; a formation the lower agent cannot
             drive in PyBullet.
         ConfigError: a world other than the flat plane in the MSM.
+        WorldError: a body that would start inside one of the world's obstacles.
     """
     if config.sim == "msm":
         if world is not None and not world.is_flat:
@@ -291,6 +292,14 @@ def check_sim(formation: Formation, config: TrainingConfig, world: World | None 
         config.lower_agent.step_duration_for(formation)
     except ValueError as exc:
         raise FormationError(str(exc), file=formation.file) from None
+    if world is not None and not world.is_uniform:
+        from qdsega.assembly import assemble  # starts PyBullet: only where obstacles may be
+        from qdsega.simulation.bullet import BulletSimulation
+
+        with BulletSimulation(
+            robot=assemble(formation), settings=config.physics, world=world
+        ) as sim:
+            sim.reset(formation.posture_rad(formation.rest_levels()))  # refuses a start inside
 
 
 def build_sim(

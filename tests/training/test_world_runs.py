@@ -76,3 +76,13 @@ def test_a_run_keeps_its_world_and_reads_it_from_its_copy(tmp_path):
     assert evaluation["distance_m"] == pytest.approx(summary["distance_m"], abs=1e-9)
     assert run_cli("report", moved).returncode == 0
     assert "qdsega run: snake5 in hill (memo" in (moved / "report.html").read_text()
+
+
+def test_a_body_that_would_start_inside_an_obstacle_is_refused_before_anything_is_written(
+    tmp_path,
+):
+    out = tmp_path / "run"
+    result = run_cli("train", "quadruped", "--sim", "memo", "--world", "corridor", "--out", out)
+    assert result.returncode == 2 and len(result.stderr.splitlines()) == 1, result.stderr
+    assert "corridor.yaml: quadruped starts inside an obstacle of corridor" in result.stderr
+    assert not out.exists()
