@@ -179,7 +179,7 @@ def _learning_curve(
     # Below the axes: inside, it hid the curves and the 0.9 line (the figure grows to fit).
     ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(0, -0.16))
     ax.grid(alpha=0.3)
-    return _save(fig, path)
+    return save_figure(fig, path)
 
 
 def _qtable_size(path: Path, metrics: dict[str, np.ndarray]) -> Path:
@@ -197,7 +197,7 @@ def _qtable_size(path: Path, metrics: dict[str, np.ndarray]) -> Path:
     bottom.xaxis.set_major_locator(MaxNLocator(integer=True))
     bottom.grid(alpha=0.3)
     fig.suptitle("Exploration space per generation (states include the exterior bins)")
-    return _save(fig, path)
+    return save_figure(fig, path)
 
 
 def _snake_poses(path: Path, units: np.ndarray, light: np.ndarray) -> Path:
@@ -235,7 +235,7 @@ def _snake_poses(path: Path, units: np.ndarray, light: np.ndarray) -> Path:
     fig.suptitle(
         "Snake seen from above, replayed in PyBullet\n(red: head, dotted: its path, arrow: light)"
     )
-    return _save(fig, path)
+    return save_figure(fig, path)
 
 
 def _trajectories(path: Path, poses: np.ndarray, light: np.ndarray) -> Path:
@@ -260,7 +260,7 @@ def _trajectories(path: Path, poses: np.ndarray, light: np.ndarray) -> Path:
         ax.set_ylim(-reach * 0.6, reach * 0.6)
     axes[-1].set_xlabel("x (m)")
     fig.suptitle("Greedy policy per generation, exact physics (arrow: toward the light)")
-    return _save(fig, path)
+    return save_figure(fig, path)
 
 
 def _gait(path: Path, legs: np.ndarray, names: np.ndarray) -> Path:
@@ -273,7 +273,7 @@ def _gait(path: Path, legs: np.ndarray, names: np.ndarray) -> Path:
     ax.set_yticks(range(len(names)), [str(n) for n in names])
     ax.set_xlabel("step (0: initial posture)")
     ax.set_title("Acquired gait: 1 fwd+down, 2 back+down, 3 fwd+up, 4 back+up")
-    return _save(fig, path)
+    return save_figure(fig, path)
 
 
 def _joint_angles(path: Path, angles: np.ndarray, names: np.ndarray) -> Path:
@@ -287,10 +287,10 @@ def _joint_angles(path: Path, angles: np.ndarray, names: np.ndarray) -> Path:
     ax.set_yticks([-k * spacing for k in range(count)], [str(n) for n in names])
     ax.set_xlabel("step (0: initial posture)")
     ax.set_title(f"Joint angles of the acquired motion (each line spans {spacing:.0f} deg)")
-    return _save(fig, path)
+    return save_figure(fig, path)
 
 
-def _save(fig: matplotlib.figure.Figure, path: Path) -> Path:
+def save_figure(fig: matplotlib.figure.Figure, path: Path) -> Path:
     """Lay out, write at 120 dpi and close ``fig``; return ``path``."""
     fig.tight_layout()
     fig.savefig(path, dpi=120)

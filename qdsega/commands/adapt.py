@@ -20,19 +20,31 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "--formation", required=True, metavar="CHANGED", help="the changed body: a file or name"
     )
     parser.add_argument("--trials", type=int, default=20, metavar="N", help="at most (20)")
+    parser.add_argument(
+        "--fresh", type=Path, metavar="RUN",
+        help="a fresh qdsega train run of the changed body: its result F is drawn on the curve",
+    )  # fmt: skip
     parser.add_argument("--out", type=Path, metavar="DIR", help="default runs/adapt-NAME")
 
 
 def run(args: argparse.Namespace) -> int:
     # Imported here: it starts PyBullet, which the other commands need not load.
     from qdsega.adaptation.adapt import adapt
+    from qdsega.analysis.adaptation_plots import ADAPTATION_CURVE, adaptation_curve
     from qdsega.description import load_formation, resolve_formation
+    from qdsega.training.run_folder import RunFolder
 
     if args.trials < 1:
         raise ConfigError(f"--trials must be at least 1, got {args.trials}")
     changed = load_formation(resolve_formation(args.formation))
+    fresh_m = None
+    if args.fresh is not None:
+        folder = RunFolder(args.fresh)
+        folder.require_finished()
+        fresh_m = float(folder.read_summary()["distance_m"])
     out = args.out or Path("runs") / f"adapt-{changed.name}"
     result = adapt(args.repertoire, changed, out, trials=args.trials)
+    adaptation_curve(result, out / ADAPTATION_CURVE, fresh_m=fresh_m)
     print(
         f"{changed.name}: {result['distance_m']:.4f} m with exact physics at trial "
         f"{result['trial_found']} of {len(result['trials'])} (stopped: {result['stopped']}; "

@@ -28,7 +28,12 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> int:
     # Imported here: it starts PyBullet, which the other commands need not load.
-    from qdsega.adaptation.repertoire import RepertoireSettings, build_repertoire
+    from qdsega.adaptation.repertoire import (
+        RepertoireSettings,
+        build_repertoire,
+        load_repertoire,
+    )
+    from qdsega.analysis.adaptation_plots import ARCHIVE_MAP, archive_map
     from qdsega.description import (
         World,
         load_formation,
@@ -51,9 +56,12 @@ def run(args: argparse.Namespace) -> int:
     formation = world.lights(load_formation(resolve_formation(args.formation)))
     rules = resolve_config(overrides={"sim": "memo"}, formation=formation).rules(world)
     out = args.out or Path("runs") / f"repertoire-{formation.name}"
-    record = build_repertoire(
+    build_repertoire(
         formation, out, rules=rules, settings=settings, workers=args.workers, progress=ProgressLine
     )
+    archive, record = load_repertoire(out)
+    if len(archive.filled):
+        archive_map(archive, record, out / ARCHIVE_MAP)
     best = "none walked" if record["best_m"] is None else f"best {record['best_m']:.4f} m"
     print(
         f"{formation.name}: {record['filled']} cells of {settings.cells} filled "

@@ -42,6 +42,15 @@ def test_a_leg_lost_is_adapted_to_with_the_mapped_gaits_and_the_same_trials_twic
     assert strip == [{k: v for k, v in t.items() if k != "wall_s"} for t in second["trials"]]
 
 
+def test_the_command_writes_the_result_the_trial_to_film_and_the_curve(repertoire, tmp_path):
+    out = tmp_path / "adapt"
+    result = run_cli("adapt", repertoire, "--formation", "quadruped_tripod", "--trials", "2",
+                     "--out", out)  # fmt: skip
+    assert result.returncode == 0, result.stderr
+    assert "quadruped_tripod: " in result.stdout and "with exact physics at trial" in result.stdout
+    assert {p.name for p in out.iterdir()} == {"adapt.json", "gait.csv", "adaptation_curve.png"}
+
+
 def test_a_body_with_no_joint_in_common_or_a_corrupt_repertoire_is_refused(repertoire, tmp_path):
     out = tmp_path / "adapt"
     result = run_cli("adapt", repertoire, "--formation", "snake5", "--out", out)

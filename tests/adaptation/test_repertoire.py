@@ -43,6 +43,17 @@ def test_a_build_stopped_and_continued_gives_the_same_archive(tmp_path):
         assert np.array_equal(value, again.state()[name], equal_nan=True), name
 
 
+def test_the_command_builds_and_draws_the_archive(tmp_path):
+    out = tmp_path / "rep"
+    result = run_cli("repertoire", "quadruped", "--evaluations", "32", "--cells", "8",
+                     "--workers", "1", "--out", out)  # fmt: skip
+    assert result.returncode == 0, result.stderr
+    record = json.loads((out / "repertoire.json").read_text())
+    assert f"{record['filled']} cells of 8 filled" in result.stdout
+    assert (out / "archive.png").is_file() == (record["filled"] > 0)
+    assert (out / "formation.json").is_file()  # its own copy of the body, for adapt
+
+
 def test_another_body_or_a_corrupt_archive_is_refused_in_one_line(tmp_path):
     out = tmp_path / "rep"
     _build(out, 16)
