@@ -12,7 +12,8 @@ give the same trials.
 An adaptation folder holds ``adapt.json`` (the trials, the gait found, why it stopped, the
 joints' mapping) and ``gait.csv`` (the trial of the gait found: its cycle repeated for a
 trial's commands, one posture of level indices a row, as ``qdsega render FORMATION
---postures`` takes it).
+--postures`` takes it). ``qdsega train CHANGED --warm-start DIR`` goes on from the gait found
+(:func:`warm_start_from`).
 """
 
 from __future__ import annotations
@@ -26,13 +27,14 @@ import numpy as np
 
 from qdsega.adaptation.repertoire import load_repertoire
 from qdsega.adaptation.trial_model import STOP_SHARE, TrialModel
+from qdsega.agent.learner import LearnerState
 from qdsega.agent.policy import SequencePolicy
 from qdsega.atomic import replaced_atomically
 from qdsega.description import Formation
-from qdsega.errors import FormationError
+from qdsega.errors import FormationError, RunFolderError
 from qdsega.training.config import TrainingConfig, resolve_config
 from qdsega.training.formation_copy import load_run_formation, load_run_world
-from qdsega.training.reconfiguration import JointMapping
+from qdsega.training.reconfiguration import JointMapping, WarmStart
 
 DEFAULT_TRIALS = 20
 """Exact trials an adaptation may run (IT&E's budget)."""
@@ -123,3 +125,50 @@ def adapt(
     with replaced_atomically(out / RESULT) as partial:
         partial.write_text(json.dumps(result, indent=2) + "\n", encoding="utf-8")
     return result
+
+
+def is_adaptation(folder: Path) -> bool:
+    """Whether ``folder`` holds an adaptation's result."""
+    return (folder / RESULT).is_file()
+
+
+def warm_start_from(folder: Path, formation: Formation) -> WarmStart:
+    """A warm start of ``formation`` from the gait an adaptation of it found: a learner drawn
+    at random as a fresh run's, that gait's trial handed on as the elite path, verified on the
+    body before the first generation.
+
+    Raises:
+        RunFolderError: a corrupt result, or an adaptation of another body.
+    """
+    try:
+        result = json.loads((folder / RESULT).read_text(encoding="utf-8"))
+        gait = np.array(result["gait"], dtype=np.int64)
+        found = {k: result[k] for k in ("formation", "distance_m", "trials", "joints")}
+    except (OSError, ValueError, KeyError, TypeError) as exc:
+        raise RunFolderError(f"corrupt adaptation ({exc})", file=folder) from None
+    if (
+        found["formation"] != formation.name
+        or gait.ndim != 2
+        or gait.shape[1] != len(formation.joints)
+    ):
+        message = f"an adaptation of {found['formation']}, not of {formation.name}"
+        raise RunFolderError(message, file=folder)
+    mapping = JointMapping.between(formation, formation)  # the gait is the body's own
+    source = LearnerState(
+        completed=0,
+        population=np.unique(gait, axis=0),
+        rng_state={},
+        previous=None,
+        elite=(np.zeros((0, gait.shape[1]), dtype=np.int64), None),
+        elite_path=gait,  # a cycle: verifying it repeats it for a trial
+    )
+    record = {
+        "run": str(folder.resolve()),
+        "formation": found["formation"],
+        "seed": None,
+        "generations": 0,
+        "distance_m": found["distance_m"],
+        "adapt_trials": len(found["trials"]),
+        "joints": mapping.report(),
+    }
+    return WarmStart(record, mapping, source)

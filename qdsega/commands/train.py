@@ -7,6 +7,7 @@ from functools import partial
 from pathlib import Path
 from typing import Any
 
+from qdsega.adaptation.adapt import is_adaptation, warm_start_from
 from qdsega.agent.config import PRESETS
 from qdsega.description import load_formation, load_world, resolve_formation, resolve_world
 from qdsega.errors import ConfigError
@@ -93,7 +94,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         type=Path,
         metavar="RUN",
         help="start from a finished run's last population and Q-table, its joints matched to "
-        "this formation's by name (a changed body relearns from what it knew)",
+        "this formation's by name (a changed body relearns from what it knew); or from the "
+        "gait qdsega adapt found for this formation",
     )
     parser.add_argument(
         "--allow-unmatched",
@@ -133,6 +135,9 @@ def run(args: argparse.Namespace) -> int:
         out = args.out or RUNS_DIR / name
         if args.allow_unmatched and args.warm_start is None:
             raise ConfigError("--allow-unmatched goes with --warm-start RUN")
+        warm_start = args.warm_start
+        if warm_start is not None and is_adaptation(warm_start):
+            warm_start = warm_start_from(warm_start, load_formation(args.formation))
         start = partial(
             train,
             args.formation,
@@ -140,7 +145,7 @@ def run(args: argparse.Namespace) -> int:
             out,
             overwrite=args.overwrite,
             progress=progress,
-            warm_start=args.warm_start,
+            warm_start=warm_start,
             allow_unmatched=args.allow_unmatched,
             world=world,
         )
@@ -179,8 +184,8 @@ def prediction_warning(summary: dict[str, Any]) -> str | None:
         return None
     return (
         f"the table's prediction is {error:+.0%} off exact physics (more than "
-        f"{PREDICTION_TOLERANCE:.0%}): the table does not hold where this body went "
-        "(docs/worlds.md); the distance above is exact physics"
+        f"{PREDICTION_TOLERANCE:.0%}): the table did not hold where this run went (varied "
+        "ground: docs/worlds.md); the distance above is exact physics"
     )
 
 

@@ -119,22 +119,27 @@ class JointMapping:
 
     def save(self, file: Path, source: LearnerState) -> None:
         """Write the mapping and the learner state it maps (a warm start's inputs) to
-        ``file`` (npz), atomically."""
-        assert source.previous is not None, "a finished run has learnt a generation"
-        space, q = source.previous
+        ``file`` (npz), atomically. A source without a learnt generation (a gait found by
+        ``qdsega adapt``) keeps its population and elite path alone."""
         names = {k: np.array(getattr(self, k), dtype=str) for k in _CLASSES}
+        learnt = {}
+        if source.previous is not None:
+            space, q = source.previous
+            learnt = {
+                "actions": space.actions,
+                "action_of": space.action_of,
+                "postures": space.postures,
+                "next_interior": space.next_interior,
+                "q": q,
+            }
         with replaced_atomically(file) as partial:
             np.savez_compressed(
                 partial,
                 column=self.column,
                 levels=self.levels,
                 population=source.population,
-                actions=space.actions,
-                action_of=space.action_of,
-                postures=space.postures,
-                next_interior=space.next_interior,
-                q=q,
                 elite_path=_path(source),
+                **learnt,
                 **names,
             )
 
@@ -148,17 +153,20 @@ class JointMapping:
                 levels=data["levels"],
                 **{k: tuple(str(n) for n in data[k]) for k in _CLASSES},
             )
-            space = ExplorationSpace(
-                actions=data["actions"],
-                action_of=data["action_of"],
-                postures=data["postures"],
-                next_interior=data["next_interior"],
-            )
+            previous = None
+            if "q" in data.files:
+                space = ExplorationSpace(
+                    actions=data["actions"],
+                    action_of=data["action_of"],
+                    postures=data["postures"],
+                    next_interior=data["next_interior"],
+                )
+                previous = (space, data["q"])
             state = LearnerState(
                 completed=0,
                 population=data["population"],
                 rng_state={},
-                previous=(space, data["q"]),
+                previous=previous,
                 elite=(np.zeros((0, data["population"].shape[1]), dtype=np.int64), None),
                 elite_path=data["elite_path"] if "elite_path" in data.files else None,
             )
@@ -207,13 +215,25 @@ def warm_state(
     the first generation learns (:meth:`qdsega.training.sims.TrainingSim.verify`),
     which then imitates it (``imitate_elite``) and searches from it (``local_search``).
 
+    A source that learnt no generation (a gait ``qdsega adapt`` found) hands on its elite path
+    alone, to a population drawn at random as a fresh run's.
+
     Args:
         levels: level count of each new joint, shape (J_new,).
         start: the new formation's start posture, shape (J_new,).
         population: individuals of the new run.
         rng: the new run's generator, which the learner goes on drawing from.
     """
-    assert source.previous is not None, "a finished run has learnt a generation"
+    path = mapping.postures(_path(source), start)
+    if source.previous is None:
+        return LearnerState(
+            completed=0,
+            population=random_population(levels, population, rng),
+            rng_state=rng.bit_generator.state,
+            previous=None,
+            elite=(elite_postures(path, population), None),
+            elite_path=path,
+        )
     space, q = source.previous
     added = mapping.column < 0
     draws = np.zeros((len(space.actions), len(levels)), dtype=np.int64)
@@ -235,7 +255,6 @@ def warm_state(
         postures=interior,
         next_interior=space.next_interior,
     )
-    path = mapping.postures(_path(source), start)
     return LearnerState(
         completed=0,
         population=mapped,
@@ -244,6 +263,16 @@ def warm_state(
         elite=(elite_postures(path, population), None),
         elite_path=path,
     )
+
+
+@dataclass(frozen=True)
+class WarmStart:
+    """What a warm start starts from: ``warm_start.json``'s record, the joint mapping onto the
+    new body, and the learner state it maps."""
+
+    record: dict[str, Any]
+    mapping: JointMapping
+    source: LearnerState
 
 
 def warm_record(run: Path, summary: dict[str, Any], mapping: JointMapping) -> dict[str, Any]:

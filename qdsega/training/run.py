@@ -20,7 +20,7 @@ from typing import Any, Protocol
 import numpy as np
 import yaml
 
-from qdsega.agent.learner import QDSEGA, Generation, LearnerState
+from qdsega.agent.learner import QDSEGA, Generation
 from qdsega.agent.policy import Rollout
 from qdsega.atomic import replaced_atomically
 from qdsega.description import Formation, World, load_formation
@@ -37,7 +37,7 @@ from qdsega.training.formation_copy import (
     world_sha256,
 )
 from qdsega.training.interrupt import InterruptWatch
-from qdsega.training.reconfiguration import JointMapping, warm_record, warm_state
+from qdsega.training.reconfiguration import JointMapping, WarmStart, warm_record, warm_state
 from qdsega.training.run_folder import METRIC_COLUMNS, RunFolder
 from qdsega.training.run_lock import run_lock
 from qdsega.training.sims import (
@@ -115,7 +115,7 @@ def train(
     *,
     overwrite: bool = False,
     progress: Progress | None = None,
-    warm_start: Path | None = None,
+    warm_start: Path | WarmStart | None = None,
     allow_unmatched: bool = False,
     world: World | None = None,
 ) -> dict[str, Any]:
@@ -130,7 +130,8 @@ def train(
             replaces the formation's.
         warm_start: a finished run folder to start from: its last population and Q-table,
             mapped onto this formation by joint name
-            (:mod:`qdsega.training.reconfiguration`).
+            (:mod:`qdsega.training.reconfiguration`); or what to start from, read already
+            (a gait ``qdsega adapt`` found).
         allow_unmatched: warm-start even from a run that shares no joint name with this
             formation.
 
@@ -148,7 +149,11 @@ def train(
     check_sim(config.with_light(lit), config, world)
     warm = None
     if warm_start is not None:
-        warm = _warm_source(Path(warm_start), original, config, allow_unmatched)
+        warm = (
+            warm_start
+            if isinstance(warm_start, WarmStart)
+            else _warm_source(Path(warm_start), original, config, allow_unmatched)
+        )
     snapshot = FormationSnapshot.of(original)
     if out.exists() and not out.is_dir():
         raise RunFolderError("not a folder; choose another --out", file=out)
@@ -174,15 +179,14 @@ def train(
         if world is not None:
             copy_world(world, out)
         if warm is not None:
-            record, mapping, source = warm
-            mapping.save(folder / folder.WARM_START_STATE, source)
-            folder.write_json(folder.WARM_START, record)
+            warm.mapping.save(folder / folder.WARM_START_STATE, warm.source)
+            folder.write_json(folder.WARM_START, warm.record)
         return _run(folder, load_run_formation(out, config), config, None, progress)
 
 
 def _warm_source(
     run: Path, formation: Formation, config: TrainingConfig, allow_unmatched: bool
-) -> tuple[dict[str, Any], JointMapping, LearnerState]:
+) -> WarmStart:
     """What a warm start from ``run`` needs: its record, the joint mapping onto
     ``formation`` and the run's last learner state.
 
@@ -209,7 +213,7 @@ def _warm_source(
             "carries over (give --allow-unmatched to start from it anyway)",
             file=run,
         )
-    return warm_record(run, source.read_summary(), mapping), mapping, checkpoint.learner
+    return WarmStart(warm_record(run, source.read_summary(), mapping), mapping, checkpoint.learner)
 
 
 def resume(run: Path | str, *, progress: Progress | None = None) -> dict[str, Any]:

@@ -51,6 +51,27 @@ def test_the_command_writes_the_result_the_trial_to_film_and_the_curve(repertoir
     assert {p.name for p in out.iterdir()} == {"adapt.json", "gait.csv", "adaptation_curve.png"}
 
 
+def test_train_goes_on_from_the_gait_found_and_refuses_another_bodys(repertoire, tmp_path):
+    tripod = load_formation(resolve_formation("quadruped_tripod"))
+    found = adapt(repertoire, tripod, tmp_path / "adapt", trials=2)
+    # The body's own trial rules (the adaptation's), a tiny learner.
+    (tmp_path / "tiny.yaml").write_text("workers: 1\nagent: {learning: {trials: 20}, "
+                                        "genetic: {population: 6}}\n")  # fmt: skip
+    run = tmp_path / "warm"
+    result = run_cli(
+        "train", "quadruped_tripod", "--sim", "memo", "--generations", "1", "--quiet",
+        "--config", tmp_path / "tiny.yaml", "--warm-start", tmp_path / "adapt", "--out", run,
+    )  # fmt: skip
+    assert result.returncode == 0, result.stderr
+    record = json.loads((run / "warm_start.json").read_text())
+    assert record["adapt_trials"] == len(found["trials"])
+    assert record["handed_on_m"] == pytest.approx(found["distance_m"])  # the same trial again
+    other = run_cli("train", "quadruped", "--sim", "memo", "--warm-start", tmp_path / "adapt",
+                    "--out", tmp_path / "other")  # fmt: skip
+    assert other.returncode == 2 and "an adaptation of quadruped_tripod" in other.stderr
+    assert not (tmp_path / "other").exists()
+
+
 def test_a_body_with_no_joint_in_common_or_a_corrupt_repertoire_is_refused(repertoire, tmp_path):
     out = tmp_path / "adapt"
     result = run_cli("adapt", repertoire, "--formation", "snake5", "--out", out)
