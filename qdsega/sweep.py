@@ -37,7 +37,13 @@ from typing import Any
 
 import yaml
 
-from qdsega.description import World, load_formation, load_world, resolve_formation, resolve_world
+from qdsega.description import (
+    World,
+    load_formation,
+    load_world,
+    named_world,
+    resolve_formation,
+)
 from qdsega.errors import ConfigError, QdsegaError, WorldError
 from qdsega.progress import ProgressFactory
 from qdsega.training.config import SIMULATORS, default_preset, resolve_config
@@ -170,7 +176,7 @@ def _worlds(document: YamlDocument, grid: dict[str, Any], sim: str) -> list[Worl
         if not path.is_absolute() and (document.file.parent / path).is_file():
             path = document.file.parent / path
         try:
-            worlds.append(load_world(resolve_world(path)))
+            worlds.append(named_world(path))
         except WorldError as exc:
             raise document.error(("worlds", i), str(exc)) from None
     if sim == "msm" and any(w is not None and not w.is_flat for w in worlds):

@@ -26,9 +26,8 @@ from qdsega.description import (
     Formation,
     World,
     load_formation,
-    load_world,
+    named_world,
     resolve_formation,
-    resolve_world,
 )
 from qdsega.locomotion.rules import ExactRules
 from qdsega.msm import LegLayout, MinimalSimulationModel, msm_optimum
@@ -156,7 +155,7 @@ def read_world(world: str) -> World:
     Raises:
         WorldError: no shipped world of that name, or a file that does not read as a world.
     """
-    return World() if world == FLAT else load_world(resolve_world(world))
+    return World() if world == FLAT else named_world(world)
 
 
 def in_world(

@@ -51,7 +51,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 def run(args: argparse.Namespace) -> int:
     # Imported here: rendering starts PyBullet, which the other commands need not load.
     from qdsega.analysis.render import read_postures, render_postures, render_run
-    from qdsega.description import load_formation, load_world, resolve_formation, resolve_world
+    from qdsega.description import (
+        load_formation,
+        named_world,
+        resolve_formation,
+    )
     from qdsega.simulation.camera import CameraConfig
 
     try:
@@ -73,7 +77,7 @@ def run(args: argparse.Namespace) -> int:
         raise FormationError("a formation file needs --postures FILE.csv", file=args.source)
     else:
         formation = load_formation(resolve_formation(args.source))
-        world = None if args.world is None else load_world(resolve_world(args.world))
+        world = None if args.world is None else named_world(args.world)
         postures = read_postures(args.postures, len(formation.joints))
         film = render_postures(formation, postures, args.output, camera, world=world)
     stopped = f" (stopped early: {film.failure})" if film.failure else ""

@@ -37,9 +37,8 @@ def run(args: argparse.Namespace) -> int:
     from qdsega.description import (
         World,
         load_formation,
-        load_world,
+        named_world,
         resolve_formation,
-        resolve_world,
     )
     from qdsega.progress import ProgressLine
     from qdsega.training.config import resolve_config
@@ -52,7 +51,7 @@ def run(args: argparse.Namespace) -> int:
         )
     except ValueError as exc:
         raise ConfigError(str(exc)) from None
-    world = World() if args.world is None else load_world(resolve_world(args.world))
+    world = World() if args.world is None else named_world(args.world)
     formation = world.lights(load_formation(resolve_formation(args.formation)))
     rules = resolve_config(overrides={"sim": "memo"}, formation=formation).rules(world)
     out = args.out or Path("runs") / f"repertoire-{formation.name}"

@@ -9,7 +9,11 @@ from typing import Any
 
 from qdsega.adaptation.adapt import is_adaptation, warm_start_from
 from qdsega.agent.config import PRESETS
-from qdsega.description import load_formation, load_world, resolve_formation, resolve_world
+from qdsega.description import (
+    load_formation,
+    named_world,
+    resolve_formation,
+)
 from qdsega.errors import ConfigError
 from qdsega.training.config import SIMULATORS, TrainingConfig, resolve_config
 from qdsega.training.progress import ProgressDisplay
@@ -129,7 +133,7 @@ def run(args: argparse.Namespace) -> int:
             from qdsega.workers.ray_cluster import connect
 
             connect(config.ray, cpus=config.workers)
-        world = None if args.world is None else load_world(resolve_world(args.world))
+        world = None if args.world is None else named_world(args.world)
         place = "" if world is None else f"-{world.name}"
         name = f"{args.formation.stem}{place}-{config.sim}-seed{config.seed}"
         out = args.out or RUNS_DIR / name

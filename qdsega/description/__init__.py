@@ -16,7 +16,7 @@ from qdsega.description.shipped import (
     shipped_world_names,
 )
 from qdsega.description.unit_type import Connector, JointSpec, UnitType, load_unit_type
-from qdsega.description.world import World, load_world
+from qdsega.description.world import World, load_world, named_world
 
 __all__ = [
     "ActuatedJoint",
@@ -32,6 +32,7 @@ __all__ = [
     "load_formation",
     "load_unit_type",
     "load_world",
+    "named_world",
     "resolve_formation",
     "resolve_world",
     "shipped_formation_names",

@@ -15,6 +15,7 @@ from typing import Any
 
 from qdsega.description.formation import Formation, Light
 from qdsega.description.formation_reader import read_light
+from qdsega.description.shipped import resolve_world
 from qdsega.errors import WorldError
 from qdsega.yaml_reader import Interval, KeyPath, Reader, load_yaml
 
@@ -191,6 +192,16 @@ def load_world(file: Path | str) -> World:
         ceiling=_ceiling(reader, top.get("ceiling")),
         light=None if "light" not in top else read_light(reader, ("light",), top["light"]),
     )
+
+
+def named_world(argument: str | Path) -> World:
+    """The world a command-line argument means: a file, or a shipped world's name
+    (:func:`qdsega.description.shipped.resolve_world`), read.
+
+    Raises:
+        WorldError: no such shipped world, or a file that does not read as a world.
+    """
+    return load_world(resolve_world(argument))
 
 
 def _slope(reader: Reader, value: Any) -> tuple[float, float]:

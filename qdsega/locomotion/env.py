@@ -43,9 +43,8 @@ from qdsega.description import (
     Formation,
     World,
     load_formation,
-    load_world,
+    named_world,
     resolve_formation,
-    resolve_world,
 )
 from qdsega.errors import QdsegaWarning, WorldError
 from qdsega.locomotion.lower_agent import SETTLE_S, LowerAgent, LowerAgentConfig
@@ -92,7 +91,7 @@ class LocomotionEnv(gym.Env[np.ndarray, np.ndarray]):
         if not isinstance(formation, Formation):
             formation = load_formation(resolve_formation(formation))
         if world is not None and not isinstance(world, World):
-            world = load_world(resolve_world(world))
+            world = named_world(world)
         if world is not None:
             formation = world.lights(formation)
         self.world = world or World()
