@@ -30,14 +30,14 @@ def _build(out, evaluations):
 
 
 def test_a_build_stopped_and_continued_gives_the_same_archive(tmp_path):
-    whole = _build(tmp_path / "whole", 48)
-    assert whole["evaluations_done"] == 48 and whole["filled"] >= 1
+    whole = _build(tmp_path / "whole", 32)
+    assert whole["evaluations_done"] == 32 and whole["filled"] >= 1
     archive, record = load_repertoire(tmp_path / "whole")
     assert record["descriptor_names"] == ["L1", "L2", "R1", "R2"]
     best = archive.gait(archive.best())
     assert np.all(best >= 0) and archive.fitness[archive.best()] == whole["best_m"]
     _build(tmp_path / "parts", 16)
-    _build(tmp_path / "parts", 48)  # as after a kill: it goes on from its last batch
+    _build(tmp_path / "parts", 32)  # as after a kill: it goes on from its last batch
     again, _ = load_repertoire(tmp_path / "parts")
     for name, value in archive.state().items():
         assert np.array_equal(value, again.state()[name], equal_nan=True), name
