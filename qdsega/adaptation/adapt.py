@@ -32,6 +32,7 @@ from qdsega.agent.policy import SequencePolicy
 from qdsega.atomic import replaced_atomically
 from qdsega.description import Formation
 from qdsega.errors import FormationError, RunFolderError
+from qdsega.progress import ProgressFactory
 from qdsega.training.config import TrainingConfig, resolve_config
 from qdsega.training.formation_copy import load_run_formation, load_run_world
 from qdsega.training.reconfiguration import JointMapping, WarmStart
@@ -43,9 +44,15 @@ GAIT = "gait.csv"
 
 
 def adapt(
-    repertoire: Path, changed: Formation, out: Path, *, trials: int = DEFAULT_TRIALS
+    repertoire: Path,
+    changed: Formation,
+    out: Path,
+    *,
+    trials: int = DEFAULT_TRIALS,
+    progress: ProgressFactory | None = None,
 ) -> dict[str, Any]:
     """Adapt ``changed`` with the repertoire in folder ``repertoire``; write ``out``.
+    ``progress`` shows the trials run of at most ``trials`` (None: silent).
 
     Raises:
         RunFolderError: not a repertoire, or a corrupt one.
@@ -78,6 +85,7 @@ def adapt(
 
     start = time.perf_counter()
     played: list[dict[str, Any]] = []
+    line = None if progress is None else progress("adapt", min(trials, len(cells)))
     with ExactTrials(formation=changed, rules=rules, workers=1) as exact:
         while not model.done(trials):
             k = model.next_cell()
@@ -96,6 +104,10 @@ def adapt(
                     "wall_s": time.perf_counter() - start,
                 }
             )
+            if line is not None:
+                line.update(len(played), f"best {max(model.observed):.3f} m")
+    if line is not None:
+        line.close()
     mean, _ = model.posterior()
     best = int(np.argmax(model.observed))
     found = model.tried[best]

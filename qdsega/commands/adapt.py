@@ -32,6 +32,7 @@ def run(args: argparse.Namespace) -> int:
     from qdsega.adaptation.adapt import adapt
     from qdsega.analysis.adaptation_plots import ADAPTATION_CURVE, adaptation_curve
     from qdsega.description import load_formation, resolve_formation
+    from qdsega.progress import ProgressLine
     from qdsega.training.run_folder import RunFolder
 
     if args.trials < 1:
@@ -43,7 +44,7 @@ def run(args: argparse.Namespace) -> int:
         folder.require_finished()
         fresh_m = float(folder.read_summary()["distance_m"])
     out = args.out or Path("runs") / f"adapt-{changed.name}"
-    result = adapt(args.repertoire, changed, out, trials=args.trials)
+    result = adapt(args.repertoire, changed, out, trials=args.trials, progress=ProgressLine)
     adaptation_curve(result, out / ADAPTATION_CURVE, fresh_m=fresh_m)
     print(
         f"{changed.name}: {result['distance_m']:.4f} m with exact physics at trial "

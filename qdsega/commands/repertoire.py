@@ -50,7 +50,7 @@ def run(args: argparse.Namespace) -> int:
             evaluations=args.evaluations, cells=args.cells, seed=args.seed
         )
     except ValueError as exc:
-        raise ConfigError(str(exc)) from None
+        raise ConfigError(f"--{exc}") from None
     world = World() if args.world is None else named_world(args.world)
     formation = world.lights(load_formation(resolve_formation(args.formation)))
     rules = resolve_config(overrides={"sim": "memo"}, formation=formation).rules(world)
