@@ -8,9 +8,12 @@ posture (a successful command puts the robot in the commanded posture), each onc
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass
 
 import numpy as np
+
+_ARRAYS = ("actions", "action_of", "postures", "next_interior")
 
 
 @dataclass(frozen=True)
@@ -52,6 +55,15 @@ class ExplorationSpace:
             postures=postures,
             next_interior=next_interior,
         )
+
+    def arrays(self, prefix: str = "") -> dict[str, np.ndarray]:
+        """Its arrays by name, each name after ``prefix`` (for an ``.npz``)."""
+        return {f"{prefix}{name}": getattr(self, name) for name in _ARRAYS}
+
+    @classmethod
+    def from_arrays(cls, data: Mapping[str, np.ndarray], prefix: str = "") -> ExplorationSpace:
+        """The space :meth:`arrays` gave (``data``: a mapping, or an open ``.npz``)."""
+        return cls(**{name: data[f"{prefix}{name}"] for name in _ARRAYS})
 
     @property
     def n_actions(self) -> int:

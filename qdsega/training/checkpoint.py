@@ -76,13 +76,7 @@ def save_checkpoint(run: Path, checkpoint: Checkpoint) -> None:
         arrays["elite_path"] = state.elite_path
     if state.previous is not None:
         space, q = state.previous
-        arrays.update(
-            previous_actions=space.actions,
-            previous_action_of=space.action_of,
-            previous_postures=space.postures,
-            previous_next_interior=space.next_interior,
-            previous_q=q,
-        )
+        arrays.update(space.arrays("previous_"), previous_q=q)
     if checkpoint.result_policy is not None:
         policy = checkpoint.result_policy
         arrays.update(
@@ -146,13 +140,7 @@ def load_checkpoint(run: Path) -> Checkpoint | None:
             meta = json.loads(str(data["meta"]))
             previous = None
             if "previous_q" in data:
-                space = ExplorationSpace(
-                    actions=data["previous_actions"],
-                    action_of=data["previous_action_of"],
-                    postures=data["previous_postures"],
-                    next_interior=data["previous_next_interior"],
-                )
-                previous = (space, data["previous_q"])
+                previous = (ExplorationSpace.from_arrays(data, "previous_"), data["previous_q"])
             result, result_policy = _result(data, meta, data["metrics"], previous)
             return Checkpoint(
                 learner=LearnerState(

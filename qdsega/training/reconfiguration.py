@@ -125,13 +125,7 @@ class JointMapping:
         learnt = {}
         if source.previous is not None:
             space, q = source.previous
-            learnt = {
-                "actions": space.actions,
-                "action_of": space.action_of,
-                "postures": space.postures,
-                "next_interior": space.next_interior,
-                "q": q,
-            }
+            learnt = {**space.arrays(), "q": q}
         with replaced_atomically(file) as partial:
             np.savez_compressed(
                 partial,
@@ -155,13 +149,7 @@ class JointMapping:
             )
             previous = None
             if "q" in data.files:
-                space = ExplorationSpace(
-                    actions=data["actions"],
-                    action_of=data["action_of"],
-                    postures=data["postures"],
-                    next_interior=data["next_interior"],
-                )
-                previous = (space, data["q"])
+                previous = (ExplorationSpace.from_arrays(data), data["q"])
             state = LearnerState(
                 completed=0,
                 population=data["population"],
