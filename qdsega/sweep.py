@@ -195,9 +195,26 @@ def _list_of(
     return items
 
 
+_stopped = False
+"""Whether this process saw Ctrl-C: a run handed to it after that (a process pool queues one
+ahead) does not start."""
+
+
 def run_one(run: SweepRun, folder: Path) -> str:
     """Train (or resume, or keep) and evaluate one run in ``folder``; ``"ok"``, or the step
-    that failed and its error."""
+    that failed and its error. Ctrl-C stops the sweep, not just this run: it raises
+    ``KeyboardInterrupt`` here and in every later call in this process."""
+    global _stopped
+    if _stopped:
+        raise KeyboardInterrupt
+    try:
+        return _train_and_evaluate(run, folder)
+    except (KeyboardInterrupt, TrainingInterrupted):
+        _stopped = True
+        raise KeyboardInterrupt from None
+
+
+def _train_and_evaluate(run: SweepRun, folder: Path) -> str:
     from qdsega.analysis.evaluation import evaluate_run  # starts PyBullet: in the run's process
 
     step = "train"
@@ -205,16 +222,15 @@ def run_one(run: SweepRun, folder: Path) -> str:
         overrides = {"sim": run.sim, "seed": run.seed}
         config = resolve_config(preset=run.preset, file=run.config_file, overrides=overrides)
         world = None if run.world is None else load_world(run.world)
-        try:
-            train_or_resume(run.formation, config, folder, world=world)
-        except TrainingInterrupted:
-            raise KeyboardInterrupt from None  # Ctrl-C stops the sweep, not just this run
+        train_or_resume(run.formation, config, folder, world=world)
         if RunFolder(folder).read_evaluation() is None:
             step = "evaluate"
             budget = (
                 {} if run.reference_trials is None else {"reference_trials": run.reference_trials}
             )
             evaluate_run(folder, **budget)
+    except TrainingInterrupted:
+        raise
     except Exception as exc:  # a failed run is a row of the table; the others go on
         detail = str(exc) if isinstance(exc, QdsegaError) else f"{type(exc).__name__}: {exc}"
         return f"{step}: {detail}"

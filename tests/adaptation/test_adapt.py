@@ -20,7 +20,8 @@ pytestmark = pytest.mark.slow  # exact physics: seconds
 @pytest.fixture(scope="module")
 def repertoire(tmp_path_factory):
     quadruped = load_formation(resolve_formation("quadruped"))
-    rules = resolve_config(overrides={"sim": "memo"}, formation=quadruped).rules()
+    short = {"sim": "memo", "task": {"trial_steps": 10}}  # a third of the preset's trial
+    rules = resolve_config(overrides=short, formation=quadruped).rules()
     out = tmp_path_factory.mktemp("repertoire")
     settings = RepertoireSettings(evaluations=48, cells=16, batch=16, initial=16)
     build_repertoire(quadruped, out, rules=rules, settings=settings, workers=1)
