@@ -7,6 +7,9 @@ verified gait. The gaits are played in exact physics, not in the memo table: a r
 rarely shares a posture with another, so the table would measure about as many moves as the
 trial commands and save nothing.
 
+A build may be seeded with a finished run's verified gaits (:func:`run_gaits`): they are
+played first, so the archive starts from the run's best and varies it.
+
 A repertoire folder holds ``repertoire.npz`` (the archive, the search's state) and
 ``repertoire.json`` (what it is of and how it was built); both are replaced after every batch,
 so a build that is stopped, however, continues from its last batch to the same archive. Like a
@@ -16,8 +19,10 @@ the world (``world.yaml``), which adaptation reads.
 
 from __future__ import annotations
 
+import hashlib
 import json
 import time
+from collections.abc import Sequence
 from dataclasses import asdict, dataclass
 from pathlib import Path
 from typing import Any
@@ -34,6 +39,7 @@ from qdsega.errors import RunFolderError
 from qdsega.locomotion.rules import ExactRules
 from qdsega.msm import LegLayout
 from qdsega.progress import ProgressFactory
+from qdsega.training.checkpoint import load_checkpoint
 from qdsega.training.formation_copy import FormationSnapshot, copy_world
 
 ARCHIVE = "repertoire.npz"
@@ -70,8 +76,11 @@ class RepertoireSettings:
             raise ValueError(f"max_cycle must be at least 2, got {self.max_cycle}")
 
 
-def empty_archive(formation: Formation, settings: RepertoireSettings) -> Archive:
-    """The archive a repertoire of ``formation`` starts from."""
+def empty_archive(
+    formation: Formation, settings: RepertoireSettings, *, longest: int = 0
+) -> Archive:
+    """The archive a repertoire of ``formation`` starts from, for cycles of up to
+    ``settings.max_cycle`` postures or ``longest`` (a seed's), the larger."""
     layout = LegLayout.from_formation(formation) if formation.legs else None
     dims = descriptor_size(layout)
     if dims <= GRID_DIMS:
@@ -79,7 +88,27 @@ def empty_archive(formation: Formation, settings: RepertoireSettings) -> Archive
     else:
         rng = np.random.default_rng([settings.seed, 1])
         centroids = cvt_centroids(dims, settings.cells, rng)
-    return Archive.empty(centroids, max_cycle=settings.max_cycle, n_joints=len(formation.joints))
+    max_cycle = max(settings.max_cycle, longest)
+    return Archive.empty(centroids, max_cycle=max_cycle, n_joints=len(formation.joints))
+
+
+def run_gaits(run: Path) -> list[np.ndarray]:
+    """A finished run's verified gaits, to seed a repertoire: its elite path (its best trial
+    verified in exact physics) and its result's exact replay, each one trial's postures (k, J).
+
+    Raises:
+        RunFolderError: no checkpoint, or a corrupt one.
+    """
+    checkpoint = load_checkpoint(run)
+    if checkpoint is None:
+        raise RunFolderError("not a finished run (no checkpoint.npz)", file=run)
+    paths = [checkpoint.learner.elite_path, checkpoint.gait[1:]]  # the replay's start is rest
+    gaits: list[np.ndarray] = []
+    for path in paths:
+        path = None if path is None else np.asarray(path, dtype=np.int64)
+        if path is not None and len(path) and not any(np.array_equal(path, g) for g in gaits):
+            gaits.append(path)
+    return gaits
 
 
 def build_repertoire(
@@ -89,10 +118,13 @@ def build_repertoire(
     rules: ExactRules,
     settings: RepertoireSettings,
     workers: int,
+    seeds: Sequence[np.ndarray] = (),
+    seeded_from: Path | None = None,
     progress: ProgressFactory | None = None,
 ) -> dict[str, Any]:
     """Build (or continue) the repertoire of ``formation`` in folder ``out``; returns its
-    record (``repertoire.json``).
+    record (``repertoire.json``). ``seeds`` (gaits (k, J), from run ``seeded_from``) are
+    played first.
 
     Raises:
         RunFolderError: ``out`` holds a repertoire of another body or other settings, or a
@@ -100,14 +132,22 @@ def build_repertoire(
     """
     layout = LegLayout.from_formation(formation) if formation.legs else None
     levels = np.array([len(j.levels_rad) for j in formation.joints], dtype=np.int64)
-    record = _record(formation, rules, settings)
-    archive, search, told, elapsed = _resume(out, formation, settings, record)
+    record = _record(formation, rules, settings, seeds, seeded_from)
+    longest = max((len(g) for g in seeds), default=0)
+    archive, search, told, elapsed = _resume(out, formation, settings, record, longest)
     if told == 0:
         snapshot = FormationSnapshot.of(formation)  # read before anything is written
         out.mkdir(parents=True, exist_ok=True)
         snapshot.write(out)
         copy_world(rules.world, out)
-    emitter = MapElites(archive=archive, levels=levels, rng=search, initial=settings.initial)
+    emitter = MapElites(
+        archive=archive,
+        levels=levels,
+        rng=search,
+        initial=settings.initial,
+        cycle=settings.max_cycle,
+        seeds=seeds,
+    )
     emitter.told = told
     line = None
     if progress is not None:
@@ -165,8 +205,17 @@ def load_repertoire(folder: Path) -> tuple[Archive, dict[str, Any]]:
     return archive, record
 
 
-def _record(formation: Formation, rules: ExactRules, settings: RepertoireSettings) -> dict:
+def _record(
+    formation: Formation,
+    rules: ExactRules,
+    settings: RepertoireSettings,
+    seeds: Sequence[np.ndarray],
+    seeded_from: Path | None,
+) -> dict:
     layout = LegLayout.from_formation(formation) if formation.legs else None
+    digest = hashlib.sha256()
+    for gait in seeds:
+        digest.update(np.ascontiguousarray(gait, dtype=np.int64).tobytes() + b";")
     return {
         "formation": formation.name,
         "joints": [j.name for j in formation.joints],
@@ -176,25 +225,32 @@ def _record(formation: Formation, rules: ExactRules, settings: RepertoireSetting
         "descriptor_names": list(layout.names) if layout else ["turn", "drift"],
         "trial_steps": rules.task.trial_steps,
         "settings": asdict(settings),
+        "seeds": {
+            "run": None if seeded_from is None else str(seeded_from.resolve()),
+            "gaits": len(seeds),
+            "sha256": digest.hexdigest(),
+        },
     }
 
 
 def _resume(
-    out: Path, formation: Formation, settings: RepertoireSettings, record: dict
+    out: Path, formation: Formation, settings: RepertoireSettings, record: dict, longest: int
 ) -> tuple[Archive, np.random.Generator, int, float]:
     """The archive, the search's generator, the gaits played and the wall time so far: from
     ``out`` where it holds a repertoire, else fresh."""
     search = np.random.default_rng([settings.seed, 2])
     if not (out / ARCHIVE).is_file():
-        return empty_archive(formation, settings), search, 0, 0.0
+        return empty_archive(formation, settings, longest=longest), search, 0, 0.0
     archive, saved = load_repertoire(out)
-    keys = ("formation", "joints", "levels", "world", "settings")
+    keys = ("formation", "joints", "levels", "world", "settings", "seeds")
     mine, theirs = ({k: dict(r.get(k) or {}) if k == "settings" else r.get(k) for k in keys}
                     for r in (record, saved))  # fmt: skip
     for both in (mine, theirs):
         both["settings"].pop("evaluations", None)  # a build may go on to a larger budget
     if mine != theirs:
-        message = "holds a repertoire of another body, world or settings; choose another --out"
+        message = (
+            "holds a repertoire of another body, world, settings or seeds; choose another --out"
+        )
         raise RunFolderError(message, file=out)
     with np.load(out / ARCHIVE) as data:
         search.bit_generator.state = json.loads(str(data["search_state"]))

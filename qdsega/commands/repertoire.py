@@ -15,8 +15,15 @@ HELP = (
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("formation", metavar="FORMATION", help="a file or a shipped name")
-    parser.add_argument("--world", metavar="WORLD", help="a file or a shipped name; default flat")
+    parser.add_argument(
+        "formation",
+        metavar="FORMATION|RUN",
+        help="a file or a shipped name, or a finished run folder: its body and world, its "
+        "verified gaits played first",
+    )
+    parser.add_argument(
+        "--world", metavar="WORLD", help="a file or a shipped name; default flat (or the run's)"
+    )
     parser.add_argument(
         "--evaluations", type=int, default=2000, metavar="N", help="gaits played in all"
     )
@@ -32,6 +39,7 @@ def run(args: argparse.Namespace) -> int:
         RepertoireSettings,
         build_repertoire,
         load_repertoire,
+        run_gaits,
     )
     from qdsega.analysis.adaptation_plots import ARCHIVE_MAP, archive_map
     from qdsega.description import (
@@ -41,7 +49,9 @@ def run(args: argparse.Namespace) -> int:
         resolve_formation,
     )
     from qdsega.progress import ProgressLine
-    from qdsega.training.config import resolve_config
+    from qdsega.training.config import read_run_config, resolve_config
+    from qdsega.training.formation_copy import load_run_formation, load_run_world
+    from qdsega.training.run_folder import RunFolder
 
     if args.workers < 1:
         raise ConfigError(f"--workers must be at least 1, got {args.workers}")
@@ -51,12 +61,30 @@ def run(args: argparse.Namespace) -> int:
         )
     except ValueError as exc:
         raise ConfigError(f"--{exc}") from None
-    world = World() if args.world is None else named_world(args.world)
-    formation = world.lights(load_formation(resolve_formation(args.formation)))
-    rules = resolve_config(overrides={"sim": "memo"}, formation=formation).rules(world)
+    run_folder = Path(args.formation)
+    if run_folder.is_dir():  # a run: its body, world and rules, its gaits played first
+        if args.world is not None:
+            raise ConfigError("--world: a run's repertoire is built in the run's world")
+        RunFolder(run_folder).require_finished()
+        config = read_run_config(run_folder)
+        formation = load_run_formation(run_folder, config)
+        world = load_run_world(run_folder)
+        seeds, seeded_from = run_gaits(run_folder), run_folder
+    else:
+        world = World() if args.world is None else named_world(args.world)
+        formation = world.lights(load_formation(resolve_formation(args.formation)))
+        config = resolve_config(overrides={"sim": "memo"}, formation=formation)
+        seeds, seeded_from = [], None
     out = args.out or Path("runs") / f"repertoire-{formation.name}"
     build_repertoire(
-        formation, out, rules=rules, settings=settings, workers=args.workers, progress=ProgressLine
+        formation,
+        out,
+        rules=config.rules(world),
+        settings=settings,
+        workers=args.workers,
+        seeds=seeds,
+        seeded_from=seeded_from,
+        progress=ProgressLine,
     )
     archive, record = load_repertoire(out)
     if len(archive.filled):

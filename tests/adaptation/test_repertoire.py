@@ -73,3 +73,18 @@ def test_another_body_or_a_corrupt_archive_is_refused_in_one_line(tmp_path):
     shutil.copy(out / "repertoire.npz", broken / "repertoire.npz")
     with pytest.raises(RunFolderError, match="do not fit"):
         load_repertoire(broken)
+
+
+def test_a_run_seeds_the_repertoire_with_its_verified_gaits(tiny_run, tmp_path):
+    out = tmp_path / "rep"
+    result = run_cli("repertoire", tiny_run, "--evaluations", "3", "--cells", "4",
+                     "--workers", "1", "--out", out)  # fmt: skip
+    assert result.returncode == 0, result.stderr
+    record = json.loads((out / "repertoire.json").read_text())
+    assert record["formation"] == "snake5" and record["trial_steps"] == 4  # the run's rules
+    assert record["seeds"]["run"] == str(tiny_run.resolve()) and record["seeds"]["gaits"] >= 1
+    summary = json.loads((tiny_run / "summary.json").read_text())
+    assert record["best_m"] >= summary["distance_m"] - 1e-9  # its verified gait, played again
+    again = run_cli("repertoire", tiny_run, "--world", "ice", "--out", tmp_path / "other")
+    assert again.returncode == 2 and "the run's world" in again.stderr
+    assert not (tmp_path / "other").exists()
