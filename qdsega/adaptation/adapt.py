@@ -20,18 +20,20 @@ from __future__ import annotations
 
 import json
 import time
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
 from qdsega.adaptation.repertoire import load_repertoire
-from qdsega.adaptation.trial_model import STOP_SHARE, TrialModel
+from qdsega.adaptation.trial_model import LENGTH_SCALE, STOP_SHARE, TrialModel
 from qdsega.agent.learner import LearnerState
 from qdsega.agent.policy import SequencePolicy
 from qdsega.atomic import replaced_atomically
-from qdsega.description import Formation
+from qdsega.description import Formation, World
 from qdsega.errors import FormationError, RunFolderError
+from qdsega.locomotion.rules import ExactRules
 from qdsega.progress import ProgressFactory
 from qdsega.training.config import TrainingConfig, resolve_config
 from qdsega.training.formation_copy import load_run_formation, load_run_world
@@ -43,16 +45,80 @@ RESULT = "adapt.json"
 GAIT = "gait.csv"
 
 
+@dataclass(frozen=True)
+class MappedRepertoire:
+    """A repertoire's elite gaits mapped onto a changed body joint by joint.
+
+    Attributes:
+        record: the repertoire's record (``repertoire.json``).
+        changed: the changed body, lit by the repertoire's world.
+        world: the world the repertoire was built in.
+        mapping: the intact body's joints onto the changed body's.
+        cells: the archive's filled cells (C,).
+        gaits: each filled cell's elite cycle on the changed body (k, J_changed).
+        prior: each one's distance on the intact body (C,) (m).
+        descriptors: each one's descriptor on the intact body (C, D).
+    """
+
+    record: dict[str, Any]
+    changed: Formation
+    world: World
+    mapping: JointMapping
+    cells: np.ndarray
+    gaits: list[np.ndarray]
+    prior: np.ndarray
+    descriptors: np.ndarray
+
+    @classmethod
+    def of(cls, repertoire: Path, changed: Formation) -> MappedRepertoire:
+        """Map the repertoire in folder ``repertoire`` onto ``changed``.
+
+        Raises:
+            RunFolderError: not a repertoire, or a corrupt one.
+            FormationError: ``changed`` has no actuated joint in common with the repertoire's
+                body, or the repertoire holds no gait.
+        """
+        archive, record = load_repertoire(repertoire)
+        intact = load_run_formation(repertoire, TrainingConfig())
+        world = load_run_world(repertoire)
+        changed = world.lights(changed)
+        mapping = JointMapping.between(intact, changed)
+        if not mapping.matched:
+            message = f"no actuated joint in common with the repertoire's body ({intact.name})"
+            raise FormationError(message, file=changed.file)
+        cells = archive.filled
+        if not len(cells):
+            raise FormationError("the repertoire holds no gait that walks", file=changed.file)
+        rest = np.array(changed.rest_levels(), dtype=np.int64)
+        return cls(
+            record=record,
+            changed=changed,
+            world=world,
+            mapping=mapping,
+            cells=cells,
+            gaits=[mapping.postures(archive.gait(int(c)), rest) for c in cells],
+            prior=archive.fitness[cells],
+            descriptors=archive.descriptors[cells],
+        )
+
+    def rules(self) -> ExactRules:
+        """The changed body's own rules (its memo preset's task, lower agent and physics) in
+        the repertoire's world: what every trial is judged by."""
+        return resolve_config(overrides={"sim": "memo"}, formation=self.changed).rules(self.world)
+
+
 def adapt(
     repertoire: Path,
     changed: Formation,
     out: Path,
     *,
     trials: int = DEFAULT_TRIALS,
+    length_scale: float = LENGTH_SCALE,
     progress: ProgressFactory | None = None,
 ) -> dict[str, Any]:
     """Adapt ``changed`` with the repertoire in folder ``repertoire``; write ``out``.
-    ``progress`` shows the trials run of at most ``trials`` (None: silent).
+    ``length_scale`` is the trial model's (:class:`TrialModel`); ``progress`` shows the trials
+    run of at most ``trials`` (None: silent).
 
     Raises:
         RunFolderError: not a repertoire, or a corrupt one.
@@ -61,26 +127,15 @@ def adapt(
     """
     if trials < 1:
         raise ValueError(f"trials must be at least 1, got {trials}")
-    archive, record = load_repertoire(repertoire)
-    intact = load_run_formation(repertoire, TrainingConfig())
-    world = load_run_world(repertoire)
-    changed = world.lights(changed)
-    mapping = JointMapping.between(intact, changed)
-    if not mapping.matched:
-        message = f"no actuated joint in common with the repertoire's body ({intact.name})"
-        raise FormationError(message, file=changed.file)
-    cells = archive.filled
-    if not len(cells):
-        raise FormationError("the repertoire holds no gait that walks", file=changed.file)
-    rest = np.array(changed.rest_levels(), dtype=np.int64)
-    gaits = [mapping.postures(archive.gait(int(c)), rest) for c in cells]
-    prior = archive.fitness[cells]
+    mapped = MappedRepertoire.of(repertoire, changed)
+    changed, cells, gaits, prior = mapped.changed, mapped.cells, mapped.gaits, mapped.prior
     model = TrialModel(
-        descriptors=archive.descriptors[cells],
+        descriptors=mapped.descriptors,
         prior=prior,
         signal=max(float(np.std(prior)), 0.1 * float(np.max(np.abs(prior))), 1e-3),
+        length_scale=length_scale,
     )
-    rules = resolve_config(overrides={"sim": "memo"}, formation=changed).rules(world)
+    rules = mapped.rules()
     from qdsega.locomotion.exact_trials import ExactTrials  # starts PyBullet: only here
 
     start = time.perf_counter()
@@ -114,11 +169,11 @@ def adapt(
     reached = max(model.observed) >= STOP_SHARE * float(np.max(mean))
     result = {
         "repertoire": str(repertoire.resolve()),
-        "intact": record["formation"],
+        "intact": mapped.record["formation"],
         "formation": changed.name,
         "formation_file": None if changed.file is None else str(Path(changed.file).resolve()),
-        "world": world.name,
-        "joints": mapping.report(),
+        "world": mapped.world.name,
+        "joints": mapped.mapping.report(),
         "trials": played,
         "distance_m": model.observed[best],
         "trial_found": best + 1,
@@ -132,7 +187,7 @@ def adapt(
     }
     out.mkdir(parents=True, exist_ok=True)
     with replaced_atomically(out / GAIT) as partial:
-        commands = np.resize(gaits[found], (rules.task.trial_steps, len(rest)))
+        commands = np.resize(gaits[found], (rules.task.trial_steps, len(changed.joints)))
         np.savetxt(partial, commands, fmt="%d", delimiter=",")
     with replaced_atomically(out / RESULT) as partial:
         partial.write_text(json.dumps(result, indent=2) + "\n", encoding="utf-8")

@@ -50,6 +50,7 @@ TINY_RUNS = {
         "snake5", "--postures", "1", "--settings", "240:50,120:20",
     ),
 }  # fmt: skip
+ON_A_REPERTOIRE = "experiments/adaptation/adaptation_table.py"
 ON_A_RUN = (  # run below on the tiny runs reconfiguration_table.py makes
     "experiments/reconfiguration/reconfiguration_table.py",
     "experiments/memo_speed/memo_shortcuts.py",
@@ -75,7 +76,7 @@ def test_every_script_is_smoke_tested_and_has_a_usage_and_a_main():
         for folder in ("experiments", "tools")
         for p in (ROOT / folder).rglob("*.py")
     }
-    tested = {*HELP_ONLY, *TINY_RUNS, *ON_A_RUN, "tools/random_formations.py"}
+    tested = {*HELP_ONLY, *TINY_RUNS, *ON_A_RUN, ON_A_REPERTOIRE, "tools/random_formations.py"}
     assert scripts == tested
     for path in scripts:
         text = (ROOT / path).read_text(encoding="utf-8")
@@ -179,3 +180,19 @@ def test_formation_table_reads_a_run_and_a_sweeps_folder(reconfigured):
     assert result.stdout.count("| quadruped | 0 | 4 x 1 x 20 |") == 2
     assert "| quadruped-memo-legged-default | 2 |" in result.stdout
     assert "left out (train: boom)" in result.stderr
+
+
+def test_adaptation_table_adapts_a_tiny_repertoire(tmp_path):
+    repertoires = tmp_path / "repertoires"
+    built = subprocess.run(
+        [sys.executable, "-m", "qdsega.cli", "repertoire", "quadruped", "--evaluations", "8",
+         "--cells", "4", "--workers", "1", "--out", repertoires / "quadruped-seed0"],
+        capture_output=True, text=True, cwd=ROOT, timeout=300, check=False,
+    )  # fmt: skip
+    assert built.returncode == 0, built.stderr
+    result = script(ON_A_REPERTOIRE, "--repertoires", repertoires, "--seeds", "0", "--trials",
+                    "2", "--oracle", "--out", tmp_path / "out")  # fmt: skip
+    assert result.returncode == 0, result.stderr
+    assert "| a back leg lost (tripod) (`quadruped_tripod`) | 0 | " in result.stdout
+    assert "skipped hexapod_lost_leg seed 0: no hexapod-seed0 repertoire" in result.stdout
+    assert (tmp_path / "out" / "quadruped_tripod-seed0" / "adapt.json").is_file()

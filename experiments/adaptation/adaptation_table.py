@@ -1,0 +1,161 @@
+"""Trial-and-error adaptation after a change of body, from the intact body's repertoire.
+
+Usage: .venv/bin/python experiments/adaptation/adaptation_table.py --repertoires DIR
+           [--seeds 0 1 2] [--changes NEW ...] [--trials 20] [--length-scale L]
+           [--oracle] [--out runs/adaptation]
+
+For each change (a shipped formation and its changed version, ``CHANGES``) and seed, the
+repertoire ``DIR/OLD-seedS`` (made with ``qdsega repertoire``) is adapted to the changed body
+(:func:`qdsega.adaptation.adapt.adapt`, into ``OUT/NEW-seedS``), and the table is printed and
+written to ``OUT/table.md``: the trials used, the exact distance found, the adaptation's wall
+time, and the fresh QDSEGA run's result F and the warm start's generations to 0.9 F for that
+change and seed (``YARDSTICK``). ``--oracle`` also plays every mapped gait of the repertoire
+on the changed body: the best the repertoire holds for it, which no trial budget can beat.
+A second table takes the median over the seeds of each change.
+"""
+
+from __future__ import annotations
+
+import argparse
+import statistics
+import time
+from pathlib import Path
+from typing import Any
+
+from qdsega.adaptation.adapt import MappedRepertoire, adapt
+from qdsega.adaptation.repertoire import load_repertoire
+from qdsega.adaptation.trial_model import LENGTH_SCALE
+from qdsega.agent.policy import SequencePolicy
+from qdsega.description import load_formation, resolve_formation
+
+CHANGES = (
+    ("hexapod", "hexapod_lost_leg", "a front leg lost"),
+    ("legged12", "legged12_locked_leg", "a leg locked"),
+    ("snake5", "snake6", "a unit added"),
+    ("quadruped", "quadruped_tripod", "a back leg lost (tripod)"),
+)
+"""(intact formation, changed formation, what changed)."""
+YARDSTICK = {
+    "hexapod_lost_leg": ((2.188, 29), (1.727, 12), (1.803, 3)),
+    "legged12_locked_leg": ((1.904, 13), (2.202, 20), (1.840, 1)),
+    "snake6": ((2.231, 26), (2.686, 0), (1.740, 0)),
+    "quadruped_tripod": ((0.663, 5), (0.541, 13), (0.532, 6)),
+}
+"""Per change, per seed 0-2: (the fresh QDSEGA run's F (m), the warm-started run's generations
+to 0.9 F), from docs/notes/2026-12-01-reconfiguration.md (its runs are not on every machine;
+``experiments/reconfiguration/reconfiguration_table.py`` makes them again)."""
+AIM_SHARE = 0.8
+AIM_TRIALS = 20
+AIM_WALL_S = 120.0
+
+COLUMNS = (
+    "change",
+    "seed",
+    "repertoire: cells filled, best on the intact body (m)",
+    "trials",
+    "found (m)",
+    "F (m)",
+    "found / F",
+    "wall (s)",
+    "warm start: generations to 0.9 F",
+    "best in the repertoire on the changed body (m)",
+)
+
+
+def oracle(repertoire: Path, changed_name: str) -> float:
+    """The farthest any of the repertoire's gaits, mapped, walks on the changed body (m)."""
+    from qdsega.locomotion.exact_trials import ExactTrials  # starts PyBullet
+
+    mapped = MappedRepertoire.of(repertoire, load_formation(resolve_formation(changed_name)))
+    rules = mapped.rules()
+    with ExactTrials(formation=mapped.changed, rules=rules, workers=2) as trials:
+        played = trials.rollouts(
+            [SequencePolicy(commands=g) for g in mapped.gaits], steps=rules.task.trial_steps
+        )
+    return max(t.distance_m for t in played)
+
+
+def row(
+    repertoires: Path, out: Path, change: tuple[str, str, str], seed: int, args: argparse.Namespace
+) -> dict[str, Any]:
+    old, new, what = change
+    repertoire = repertoires / f"{old}-seed{seed}"
+    start = time.perf_counter()
+    result = adapt(
+        repertoire,
+        load_formation(resolve_formation(new)),
+        out / f"{new}-seed{seed}",
+        trials=args.trials,
+        length_scale=args.length_scale,
+    )
+    wall = time.perf_counter() - start  # loading and mapping too, not only the trials
+    _, built = load_repertoire(repertoire)
+    fresh_f, warm_generations = YARDSTICK[new][seed]
+    return {
+        "change": f"{what} (`{new}`)",
+        "seed": seed,
+        "repertoire": f"{built['filled']}, {built['best_m']:.3f}",
+        "trials": len(result["trials"]),
+        "found": result["distance_m"],
+        "F": fresh_f,
+        "share": result["distance_m"] / fresh_f,
+        "wall": wall,
+        "warm": warm_generations,
+        "oracle": oracle(repertoire, new) if args.oracle else None,
+    }
+
+
+def markdown(rows: list[dict[str, Any]]) -> str:
+    lines = ["| " + " | ".join(COLUMNS) + " |", "|" + "---|" * len(COLUMNS)]
+    for r in rows:
+        best = "-" if r["oracle"] is None else f"{r['oracle']:.3f} ({r['oracle'] / r['F']:.2f} F)"
+        cells = (
+            r["change"], r["seed"], r["repertoire"], r["trials"], f"{r['found']:.3f}",
+            f"{r['F']:.3f}", f"{r['share']:.2f}", f"{r['wall']:.1f}", r["warm"], best,
+        )  # fmt: skip
+        lines.append("| " + " | ".join(map(str, cells)) + " |")
+    lines += [
+        "",
+        "| change | seeds | median found / F | median trials | median wall (s) | aim met |",
+        "|---|---|---|---|---|---|",
+    ]
+    for change in dict.fromkeys(r["change"] for r in rows):
+        mine = [r for r in rows if r["change"] == change]
+        share = statistics.median(r["share"] for r in mine)
+        trials = statistics.median(r["trials"] for r in mine)
+        wall = statistics.median(r["wall"] for r in mine)
+        met = share >= AIM_SHARE and trials <= AIM_TRIALS and wall <= AIM_WALL_S
+        seeds = ", ".join(str(r["seed"]) for r in mine)
+        lines.append(
+            f"| {change} | {seeds} | {share:.2f} | {trials:g} | {wall:.1f} | "
+            f"{'yes' if met else 'no'} |"
+        )
+    return "\n".join(lines) + "\n"
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--repertoires", type=Path, required=True, metavar="DIR")
+    parser.add_argument("--seeds", type=int, nargs="+", default=[0, 1, 2], choices=(0, 1, 2))
+    parser.add_argument("--changes", nargs="+", metavar="NEW", choices=[c[1] for c in CHANGES])
+    parser.add_argument("--trials", type=int, default=AIM_TRIALS)
+    parser.add_argument("--length-scale", type=float, default=LENGTH_SCALE)
+    parser.add_argument("--oracle", action="store_true", help="also play every mapped gait")
+    parser.add_argument("--out", type=Path, default=Path("runs/adaptation"))
+    args = parser.parse_args()
+    changes = [c for c in CHANGES if args.changes is None or c[1] in args.changes]
+    rows = []
+    for change in changes:
+        for seed in args.seeds:
+            if not (args.repertoires / f"{change[0]}-seed{seed}").is_dir():
+                print(f"skipped {change[1]} seed {seed}: no {change[0]}-seed{seed} repertoire")
+                continue
+            rows.append(row(args.repertoires, args.out, change, seed, args))
+    table = markdown(rows)
+    args.out.mkdir(parents=True, exist_ok=True)
+    (args.out / "table.md").write_text(table, encoding="utf-8")
+    print(table, end="")
+
+
+if __name__ == "__main__":
+    main()
