@@ -1,5 +1,6 @@
 """One self-contained HTML page about a run: summary, evaluation, figures, video, configuration
-and the formation (the run's copy of its file).
+and the formation (the run's copy of its file); or about an adaptation (``qdsega adapt``'s
+folder): what it found, its curve, its video and every trial.
 
 Figures and the video are embedded as data URIs, so the page can be mailed or uploaded alone.
 The page shows what the run folder holds: figures come from ``qdsega plot``, the evaluation
@@ -14,6 +15,8 @@ import json
 from pathlib import Path
 from typing import Any
 
+from qdsega.adaptation.adapt import GAIT, RESULT, is_adaptation
+from qdsega.analysis.adaptation_plots import ADAPTATION_CURVE
 from qdsega.analysis.plots import FIGURES, body_in_world
 from qdsega.atomic import replaced_atomically
 from qdsega.errors import RunFolderError
@@ -35,12 +38,15 @@ pre { background: #f6f6f6; padding: 0.8em; overflow-x: auto; }
 
 
 def write_report(run: Path | str, out: Path | None = None) -> Path:
-    """Write the report of ``run`` to ``out`` (default ``RUN/report.html``); return its path.
+    """Write the report of ``run`` (a run folder or an adaptation's) to ``out`` (default
+    ``RUN/report.html``); return its path.
 
     Raises:
         RunFolderError: not a finished run folder, or its files do not parse.
     """
     run = Path(run)
+    if is_adaptation(run):
+        return _write_page(_adaptation(run), out or run / RunFolder.REPORT)
     folder = RunFolder(run)
     folder.require_finished(folder.CONFIG)
     summary, evaluation = folder.read_summary(), folder.read_evaluation()
@@ -70,16 +76,67 @@ def write_report(run: Path | str, out: Path | None = None) -> Path:
         f"<p class='note'>The run's copy; sha256 of it and its unit files {record.sha256}.</p>",
         f"<pre>{html.escape(formation)}</pre>",
     ]
+    return _write_page((title, parts), out or folder / folder.REPORT)
+
+
+def _write_page(content: tuple[str, list[str]], out: Path) -> Path:
+    """Write the page of ``content`` (its title, its parts' HTML) to ``out``."""
+    title, parts = content
     page = (
         f"<!DOCTYPE html>\n<html lang='en'><head><meta charset='utf-8'>"
         f"<title>{html.escape(title)}</title><style>{_STYLE}</style></head><body>\n"
         + "\n".join(parts)
         + "\n</body></html>\n"
     )
-    out = out or folder / folder.REPORT
     with replaced_atomically(out) as partial:
         partial.write_text(page, encoding="utf-8")
     return out
+
+
+def _adaptation(folder: Path) -> tuple[str, list[str]]:
+    """The title and parts of an adaptation's page."""
+    try:
+        result = json.loads((folder / RESULT).read_text(encoding="utf-8"))
+        title = f"qdsega adapt: {result['formation']} from {result['intact']}'s repertoire"
+        summary = {
+            "changed body": result["formation_file"] or result["formation"],
+            "repertoire": result["repertoire"],
+            "world": result["world"],
+            "joints": describe(result["joints"]),
+            "gait found, exact physics (m)": result["distance_m"],
+            "found at trial": result["trial_found"],
+            "trials": len(result["trials"]),
+            "stopped": result["stopped"],
+            "best predicted at the end (m)": result["best_predicted_m"],
+            "wall time (s)": result["wall_s"],
+        }
+        rows = "".join(
+            f"<tr><td>{k}</td><td>{t['cell']}</td><td>{t['intact_m']:.3f}</td>"
+            f"<td>{t['predicted_m']:.3f}</td><td>{t['distance_m']:.3f}</td>"
+            f"<td>{html.escape(t['failure'] or '')}</td></tr>"
+            for k, t in enumerate(result["trials"], start=1)
+        )
+    except (OSError, ValueError, KeyError, TypeError) as exc:
+        raise RunFolderError(f"corrupt adaptation ({exc})", file=folder) from None
+    curve = folder / ADAPTATION_CURVE
+    figure = (
+        f"<figure><img alt='{ADAPTATION_CURVE}' src='{_data_uri(curve)}'></figure>"
+        if curve.is_file()
+        else "<p class='note'>No curve.</p>"
+    )
+    head = "<tr><th>trial</th><th>cell</th><th>on the intact body (m)</th>"
+    head += "<th>predicted (m)</th><th>exact (m)</th><th>failed</th></tr>"
+    return title, [
+        f"<h1>{html.escape(title)}</h1>",
+        "<h2>Summary</h2>",
+        _table(summary),
+        "<h2>Video of the gait found</h2>",
+        _videos(folder, f"qdsega render FORMATION --postures {folder / GAIT} -o {folder}/gait.mp4"),
+        "<h2>Adaptation curve</h2>",
+        figure,
+        "<h2>Every trial</h2>",
+        f"<table>{head}{rows}</table>",
+    ]
 
 
 def _table(values: dict[str, Any]) -> str:
@@ -125,13 +182,20 @@ def _warm_start(record: dict[str, Any] | None) -> list[str]:
     """The section on where a warm-started run started from; none for a fresh run."""
     if record is None:
         return []
-    shown = {
-        "started from the run": record["run"],
-        "its formation": record["formation"],
-        "its seed, generations": f"{record['seed']}, {record['generations']}",
-        "its policy on its own body, exact physics (m)": record["distance_m"],
-        "joints": describe(record["joints"]),
-    }
+    if record.get("adapt_trials") is not None:  # a gait qdsega adapt found
+        shown = {
+            "started from the adaptation": record["run"],
+            "the gait it found, exact physics (m)": record["distance_m"],
+            "in exact trials": record["adapt_trials"],
+        }
+    else:
+        shown = {
+            "started from the run": record["run"],
+            "its formation": record["formation"],
+            "its seed, generations": f"{record['seed']}, {record['generations']}",
+            "its policy on its own body, exact physics (m)": record["distance_m"],
+            "joints": describe(record["joints"]),
+        }
     if record.get("handed_on_m") is not None:
         shown["its best path on this body, exact physics, before generation 1 (m)"] = record[
             "handed_on_m"
@@ -156,10 +220,12 @@ def _transfers(run: Path) -> list[str]:
     return ["<h2>This policy on other bodies (exact physics)</h2>", _table(rows)]
 
 
-def _videos(run: Path) -> str:
+def _videos(run: Path, how: str | None = None) -> str:
+    """Every video in ``run``; where there is none, ``how`` to make one (a command)."""
     files = sorted(p for p in run.iterdir() if p.suffix.lower() in (".mp4", ".gif"))
     if not files:
-        return f"<p class='note'>No video: <code>qdsega render {run} -o {run}/gait.mp4</code>.</p>"
+        how = how or f"qdsega render {run} -o {run}/gait.mp4"
+        return f"<p class='note'>No video: <code>{html.escape(how)}</code>.</p>"
     blocks = []
     for file in files:
         uri = _data_uri(file)

@@ -8,6 +8,7 @@ from pathlib import Path
 from qdsega.errors import ConfigError
 
 NAME = "adapt"
+VIDEO = "gait.mp4"
 HELP = (
     "adapt a changed body (a unit lost, locked or added) with the intact body's repertoire: "
     "gaits tried in exact physics, each chosen by a model that every trial corrects"
@@ -24,15 +25,22 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "--fresh", type=Path, metavar="RUN",
         help="a fresh qdsega train run of the changed body: its result F is drawn on the curve",
     )  # fmt: skip
+    parser.add_argument(
+        "--no-video", action="store_true", help="skip filming the gait found (seconds)"
+    )
     parser.add_argument("--out", type=Path, metavar="DIR", help="default runs/adapt-NAME")
 
 
 def run(args: argparse.Namespace) -> int:
     # Imported here: it starts PyBullet, which the other commands need not load.
-    from qdsega.adaptation.adapt import adapt
+    from qdsega.adaptation.adapt import GAIT, adapt
     from qdsega.analysis.adaptation_plots import ADAPTATION_CURVE, adaptation_curve
+    from qdsega.analysis.render import read_postures, render_postures
+    from qdsega.analysis.report import write_report
     from qdsega.description import load_formation, resolve_formation
     from qdsega.progress import ProgressLine
+    from qdsega.simulation.camera import CameraConfig
+    from qdsega.training.formation_copy import load_run_world
     from qdsega.training.run_folder import RunFolder
 
     if args.trials < 1:
@@ -46,9 +54,14 @@ def run(args: argparse.Namespace) -> int:
     out = args.out or Path("runs") / f"adapt-{changed.name}"
     result = adapt(args.repertoire, changed, out, trials=args.trials, progress=ProgressLine)
     adaptation_curve(result, out / ADAPTATION_CURVE, fresh_m=fresh_m)
+    if not args.no_video:
+        world = load_run_world(args.repertoire)
+        postures = read_postures(out / GAIT, len(changed.joints))
+        render_postures(world.lights(changed), postures, out / VIDEO, CameraConfig(), world=world)
+    write_report(out)
     print(
         f"{changed.name}: {result['distance_m']:.4f} m with exact physics at trial "
         f"{result['trial_found']} of {len(result['trials'])} (stopped: {result['stopped']}; "
-        f"{result['wall_s']:.1f} s) -> {out}"
+        f"{result['wall_s']:.1f} s) -> {out}, report.html"
     )
     return 0

@@ -43,13 +43,21 @@ def test_a_leg_lost_is_adapted_to_with_the_mapped_gaits_and_the_same_trials_twic
     assert strip == [{k: v for k, v in t.items() if k != "wall_s"} for t in second["trials"]]
 
 
-def test_the_command_writes_the_result_the_trial_to_film_and_the_curve(repertoire, tmp_path):
+def test_the_command_writes_the_result_the_curve_a_video_and_a_page(repertoire, tmp_path):
     out = tmp_path / "adapt"
     result = run_cli("adapt", repertoire, "--formation", "quadruped_tripod", "--trials", "2",
                      "--out", out)  # fmt: skip
     assert result.returncode == 0, result.stderr
     assert "quadruped_tripod: " in result.stdout and "with exact physics at trial" in result.stdout
-    assert {p.name for p in out.iterdir()} == {"adapt.json", "gait.csv", "adaptation_curve.png"}
+    written = {p.name for p in out.iterdir()}
+    assert written == {"adapt.json", "gait.csv", "adaptation_curve.png", "gait.mp4", "report.html"}
+    page = (out / "report.html").read_text()
+    assert "qdsega adapt: quadruped_tripod from quadruped&#x27;s repertoire" in page
+    assert (
+        "<video" in page and "6 joints matched, 2 dropped (R2_swing_joint, R2_lift_joint)" in page
+    )
+    trials = json.loads((out / "adapt.json").read_text())["trials"]
+    assert page.count("<tr><td>") == len(trials)  # a row per trial
 
 
 def test_train_goes_on_from_the_gait_found_and_refuses_another_bodys(repertoire, tmp_path):
@@ -67,6 +75,8 @@ def test_train_goes_on_from_the_gait_found_and_refuses_another_bodys(repertoire,
     record = json.loads((run / "warm_start.json").read_text())
     assert record["adapt_trials"] == len(found["trials"])
     assert record["handed_on_m"] == pytest.approx(found["distance_m"])  # the same trial again
+    assert run_cli("report", run).returncode == 0
+    assert "started from the adaptation" in (run / "report.html").read_text()
     other = run_cli("train", "quadruped", "--sim", "memo", "--warm-start", tmp_path / "adapt",
                     "--out", tmp_path / "other")  # fmt: skip
     assert other.returncode == 2 and "an adaptation of quadruped_tripod" in other.stderr
