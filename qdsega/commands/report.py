@@ -13,7 +13,9 @@ HELP = (
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("run", type=Path, metavar="RUN", help="a run folder of qdsega train")
+    parser.add_argument(
+        "run", type=Path, metavar="RUN", help="a run folder of qdsega train, or of qdsega adapt"
+    )
     parser.add_argument(
         "-o", "--output", type=Path, metavar="OUT.html", help="default RUN/report.html"
     )
