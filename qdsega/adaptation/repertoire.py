@@ -259,11 +259,12 @@ def _resume(
 
 
 def _save(out: Path, archive: Archive, emitter: MapElites, record: dict) -> None:
-    """The archive with the search's state and count, then the record (which a resumed
-    build reads only for its wall time)."""
+    """The record, then the archive with the search's state and count. In this order a build
+    killed between the two still resumes: it goes on from the archive, whose batch the
+    record is at most one ahead of (the record is read only for its wall time)."""
     state = json.dumps(emitter.rng.bit_generator.state)
     told = np.array(emitter.told)
-    with replaced_atomically(out / ARCHIVE) as partial:
-        np.savez_compressed(partial, search_state=np.array(state), told=told, **archive.state())
     with replaced_atomically(out / RECORD) as partial:
         partial.write_text(json.dumps(record, indent=2) + "\n", encoding="utf-8")
+    with replaced_atomically(out / ARCHIVE) as partial:
+        np.savez_compressed(partial, search_state=np.array(state), told=told, **archive.state())

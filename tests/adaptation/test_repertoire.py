@@ -4,10 +4,11 @@ nothing written."""
 
 import json
 import shutil
+import signal
 
 import numpy as np
 import pytest
-from helpers import run_cli
+from helpers import run_cli, start_cli, stop_when
 
 from qdsega.adaptation.repertoire import (
     RepertoireSettings,
@@ -23,6 +24,7 @@ pytestmark = pytest.mark.slow  # exact physics: seconds a build
 QUADRUPED = load_formation(resolve_formation("quadruped"))
 SHORT = {"sim": "memo", "task": {"trial_steps": 10}}  # a third of the preset's trial: faster
 RULES = resolve_config(overrides=SHORT, formation=QUADRUPED).rules()
+DEFAULT_RULES = resolve_config(overrides={"sim": "memo"}, formation=QUADRUPED).rules()
 
 
 def _build(out, evaluations):
@@ -44,15 +46,24 @@ def test_a_build_stopped_and_continued_gives_the_same_archive(tmp_path):
         assert np.array_equal(value, again.state()[name], equal_nan=True), name
 
 
-def test_the_command_builds_and_draws_the_archive(tmp_path):
-    out = tmp_path / "rep"
-    result = run_cli("repertoire", "quadruped", "--evaluations", "32", "--cells", "8",
-                     "--workers", "1", "--out", out)  # fmt: skip
+def test_the_command_killed_and_run_again_builds_the_same_archive_and_draws_it(tmp_path):
+    args = ("repertoire", "quadruped", "--evaluations", "40", "--cells", "8", "--workers", "1")
+    killed = tmp_path / "killed"
+    process = start_cli(*args, "--out", killed)
+    stop_when(process, (killed / "repertoire.npz").is_file, signal.SIGKILL)  # after a batch
+    process.communicate(timeout=60)
+    result = run_cli(*args, "--out", killed)
     assert result.returncode == 0, result.stderr
-    record = json.loads((out / "repertoire.json").read_text())
+    record = json.loads((killed / "repertoire.json").read_text())
+    assert record["evaluations_done"] == 40
     assert f"{record['filled']} cells of 8 filled" in result.stdout
-    assert (out / "archive.png").is_file() == (record["filled"] > 0)
-    assert (out / "formation.json").is_file()  # its own copy of the body, for adapt
+    assert (killed / "archive.png").is_file() == (record["filled"] > 0)
+    assert (killed / "formation.json").is_file()  # its own copy of the body, for adapt
+    whole = tmp_path / "whole"
+    settings = RepertoireSettings(evaluations=40, cells=8)
+    build_repertoire(QUADRUPED, whole, rules=DEFAULT_RULES, settings=settings, workers=1)
+    for name, value in load_repertoire(whole)[0].state().items():
+        assert np.array_equal(value, load_repertoire(killed)[0].state()[name], equal_nan=True)
 
 
 def test_another_body_or_a_corrupt_archive_is_refused_in_one_line(tmp_path):
