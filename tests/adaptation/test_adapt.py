@@ -2,6 +2,7 @@
 same repertoire and body give the same trials; a body with no joint in common, or a corrupt
 repertoire, is one line, exit 2, and nothing written."""
 
+import argparse
 import json
 
 import numpy as np
@@ -10,7 +11,9 @@ from helpers import run_cli
 
 from qdsega.adaptation.adapt import adapt
 from qdsega.adaptation.repertoire import RepertoireSettings, build_repertoire
+from qdsega.analysis import render
 from qdsega.analysis.render import read_postures
+from qdsega.commands import adapt as adapt_command
 from qdsega.description import load_formation, resolve_formation
 from qdsega.training.config import resolve_config
 
@@ -57,6 +60,26 @@ def test_the_command_writes_the_result_the_curve_and_a_page(repertoire, tmp_path
     assert f"No video: <code>qdsega render FORMATION --postures {out / 'gait.csv'}" in page
     trials = json.loads((out / "adapt.json").read_text())["trials"]
     assert page.count("<tr><td>") == len(trials)  # a row per trial
+
+
+def test_the_command_films_the_gait_found_in_the_repertoires_world(
+    repertoire, tmp_path, monkeypatch
+):
+    filmed = {}
+
+    def film(formation, postures, out, camera, *, world=None):  # stands in for PyBullet's
+        filmed.update(formation=formation.name, postures=postures, world=world.name)
+        out.write_bytes(b"video")
+
+    monkeypatch.setattr(render, "render_postures", film)
+    out = tmp_path / "adapt"
+    args = argparse.Namespace(repertoire=repertoire, formation="quadruped_tripod", trials=1,
+                              fresh=None, no_video=False, out=out)  # fmt: skip
+    assert adapt_command.run(args) == 0
+    gait = read_postures(out / "gait.csv", 6)
+    assert filmed["formation"] == "quadruped_tripod" and filmed["world"] == "flat"
+    assert np.array_equal(filmed["postures"], gait)
+    assert "<video" in (out / "report.html").read_text()
 
 
 def test_train_goes_on_from_the_gait_found_and_refuses_another_bodys(repertoire, tmp_path):
