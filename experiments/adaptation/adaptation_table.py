@@ -23,10 +23,10 @@ from pathlib import Path
 from typing import Any
 
 from qdsega.adaptation.adapt import MappedRepertoire, adapt
-from qdsega.adaptation.repertoire import load_repertoire
 from qdsega.adaptation.trial_model import LENGTH_SCALE
 from qdsega.agent.policy import SequencePolicy
 from qdsega.description import load_formation, resolve_formation
+from qdsega.progress import ProgressLine
 
 CHANGES = (
     ("hexapod", "hexapod_lost_leg", "a front leg lost"),
@@ -62,11 +62,10 @@ COLUMNS = (
 )
 
 
-def oracle(repertoire: Path, changed_name: str) -> float:
+def oracle(mapped: MappedRepertoire) -> float:
     """The farthest any of the repertoire's gaits, mapped, walks on the changed body (m)."""
     from qdsega.locomotion.exact_trials import ExactTrials  # starts PyBullet
 
-    mapped = MappedRepertoire.of(repertoire, load_formation(resolve_formation(changed_name)))
     rules = mapped.rules()
     with ExactTrials(formation=mapped.changed, rules=rules, workers=2) as trials:
         played = trials.rollouts(
@@ -80,16 +79,18 @@ def row(
 ) -> dict[str, Any]:
     old, new, what = change
     repertoire = repertoires / f"{old}-seed{seed}"
+    changed = load_formation(resolve_formation(new))
     start = time.perf_counter()
     result = adapt(
         repertoire,
-        load_formation(resolve_formation(new)),
+        changed,
         out / f"{new}-seed{seed}",
         trials=args.trials,
         length_scale=args.length_scale,
     )
     wall = time.perf_counter() - start  # loading and mapping too, not only the trials
-    _, built = load_repertoire(repertoire)
+    mapped = MappedRepertoire.of(repertoire, changed)
+    built = mapped.record
     fresh_f, warm_generations = YARDSTICK[new][seed]
     return {
         "change": f"{what} (`{new}`)",
@@ -101,7 +102,7 @@ def row(
         "share": result["distance_m"] / fresh_f,
         "wall": wall,
         "warm": warm_generations,
-        "oracle": oracle(repertoire, new) if args.oracle else None,
+        "oracle": oracle(mapped) if args.oracle else None,
     }
 
 
@@ -144,13 +145,19 @@ def main() -> None:
     parser.add_argument("--out", type=Path, default=Path("runs/adaptation"))
     args = parser.parse_args()
     changes = [c for c in CHANGES if args.changes is None or c[1] in args.changes]
-    rows = []
+    todo = []
     for change in changes:
         for seed in args.seeds:
-            if not (args.repertoires / f"{change[0]}-seed{seed}").is_dir():
+            if (args.repertoires / f"{change[0]}-seed{seed}").is_dir():
+                todo.append((change, seed))
+            else:
                 print(f"skipped {change[1]} seed {seed}: no {change[0]}-seed{seed} repertoire")
-                continue
-            rows.append(row(args.repertoires, args.out, change, seed, args))
+    rows = []
+    line = ProgressLine("adaptations", len(todo))
+    for change, seed in todo:
+        rows.append(row(args.repertoires, args.out, change, seed, args))
+        line.update(len(rows), f"{change[1]} seed {seed}")
+    line.close()
     table = markdown(rows)
     args.out.mkdir(parents=True, exist_ok=True)
     (args.out / "table.md").write_text(table, encoding="utf-8")
