@@ -1,18 +1,21 @@
-"""Behaviour descriptors of a gait, in the unit cube, for any body.
+"""Behaviour descriptors of a gait, in the unit cube, for any body, from the trial it walked.
 
-* A legged body: each leg's duty factor, the share of the cycle's postures in which that leg's
-  lift joint is down (IT&E's descriptor for its hexapod), read from the commands alone.
-* Any other body: how the gait steers, from the trial it walked: the heading change and the
-  sideways drift per cycle, each mapped from ``[-bound, bound]`` to ``[0, 1]``.
+* A legged body: each leg's duty factor, the share of the trial in which the leg touched the
+  ground (IT&E's descriptor for its hexapod). It is measured, not read from the commands: a leg
+  commanded up may still carry the trunk, and a gait that does not lean on a leg is the one
+  that walks when that leg is lost.
+* Any other body: how the gait steers: the heading change and the sideways drift per cycle,
+  each mapped from ``[-bound, bound]`` to ``[0, 1]``.
 """
 
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 
 import numpy as np
 
-from qdsega.msm import LegLayout
+from qdsega.description import Formation
 from qdsega.task import relative_move
 
 TURN_BOUND_RAD = math.pi / 4
@@ -21,12 +24,16 @@ DRIFT_BOUND_M = 0.1
 """Sideways drift per cycle, in the body frame at the trial's start, that maps to its edge (m)."""
 
 
-def duty_factors(layout: LegLayout, cycle: np.ndarray) -> np.ndarray:
-    """Each leg's share of the cycle (k, J) with its lift joint down (level 0), (n_legs,)."""
-    cycle = np.asarray(cycle, dtype=np.int64)
-    if cycle.ndim != 2 or len(cycle) == 0:
-        raise ValueError(f"a cycle is (k >= 1, J) postures, got {cycle.shape}")
-    return np.mean(cycle[:, list(layout.lift)] == 0, axis=0).astype(np.float64)
+def duty_factors(legs: tuple[tuple[int, ...], ...], contacts: np.ndarray) -> np.ndarray:
+    """Each leg's share of a trial's checks in which one of its units (indices into the
+    formation's units) touched the ground, from ``contacts`` (checks, units) bool, (n_legs,);
+    a trial with no check gives one half for every leg."""
+    contacts = np.asarray(contacts, dtype=bool)
+    if contacts.ndim != 2:
+        raise ValueError(f"contacts are (checks, units), got {contacts.shape}")
+    if len(contacts) == 0:
+        return np.full(len(legs), 0.5)
+    return np.array([contacts[:, list(units)].any(axis=1).mean() for units in legs])
 
 
 def turn_and_drift(poses: np.ndarray, cycle_length: int) -> np.ndarray:
@@ -46,14 +53,39 @@ def turn_and_drift(poses: np.ndarray, cycle_length: int) -> np.ndarray:
     return np.clip(np.array([turn / TURN_BOUND_RAD, drift / DRIFT_BOUND_M]) / 2.0 + 0.5, 0.0, 1.0)
 
 
-def descriptor_size(layout: LegLayout | None) -> int:
-    """How many numbers describe a gait of a body: one per leg, else turn and drift."""
-    return 2 if layout is None else layout.n_legs
+@dataclass(frozen=True)
+class GaitDescriptor:
+    """The descriptor of a body's gaits.
 
+    Attributes:
+        kind: what it measures, in words.
+        names: the name of each number (a leg's, or ``turn`` and ``drift``).
+        legs: each leg's units, as indices into the formation's units; empty for a body
+            without legs.
+    """
 
-def describe(layout: LegLayout | None, cycle: np.ndarray, poses: np.ndarray) -> np.ndarray:
-    """A gait's descriptor: duty factors for a legged body (``layout``), else the turn and
-    drift of the trial it walked (``poses``, (T + 1, 3))."""
-    if layout is not None:
-        return duty_factors(layout, cycle)
-    return turn_and_drift(poses, len(cycle))
+    kind: str
+    names: tuple[str, ...]
+    legs: tuple[tuple[int, ...], ...]
+
+    @classmethod
+    def of(cls, formation: Formation) -> GaitDescriptor:
+        """Duty factors for a body with legs, else the turn and drift."""
+        if not formation.legs:
+            return cls("turn and drift per cycle", ("turn", "drift"), ())
+        index = {u.name: i for i, u in enumerate(formation.units)}
+        legs = tuple(tuple(index[name] for name in leg.units) for leg in formation.legs)
+        names = tuple(leg.name for leg in formation.legs)
+        return cls("measured ground contact per leg", names, legs)
+
+    @property
+    def size(self) -> int:
+        """How many numbers describe a gait."""
+        return len(self.names)
+
+    def __call__(self, contacts: np.ndarray, poses: np.ndarray, cycle_length: int) -> np.ndarray:
+        """The descriptor (size,) of a trial of a cycle of ``cycle_length`` postures: its
+        ``contacts`` (checks, units) bool and its ``poses`` (T + 1, 3)."""
+        if self.legs:
+            return duty_factors(self.legs, contacts)
+        return turn_and_drift(poses, cycle_length)

@@ -30,14 +30,12 @@ from typing import Any
 import numpy as np
 
 from qdsega.adaptation.archive import Archive, cvt_centroids, grid_centroids
-from qdsega.adaptation.descriptor import describe, descriptor_size
+from qdsega.adaptation.descriptor import GaitDescriptor
 from qdsega.adaptation.map_elites import MapElites
-from qdsega.agent.policy import SequencePolicy
 from qdsega.atomic import replaced_atomically
 from qdsega.description import Formation
 from qdsega.errors import RunFolderError
 from qdsega.locomotion.rules import ExactRules
-from qdsega.msm import LegLayout
 from qdsega.progress import ProgressFactory
 from qdsega.training.checkpoint import load_checkpoint
 from qdsega.training.formation_copy import FormationSnapshot, copy_world
@@ -81,8 +79,7 @@ def empty_archive(
 ) -> Archive:
     """The archive a repertoire of ``formation`` starts from, for cycles of up to
     ``settings.max_cycle`` postures or ``longest`` (a seed's), the larger."""
-    layout = LegLayout.from_formation(formation) if formation.legs else None
-    dims = descriptor_size(layout)
+    dims = GaitDescriptor.of(formation).size
     if dims <= GRID_DIMS:
         centroids = grid_centroids(dims, max(1, round(settings.cells ** (1 / dims))))
     else:
@@ -130,7 +127,7 @@ def build_repertoire(
         RunFolderError: ``out`` holds a repertoire of another body or other settings, or a
             corrupt one.
     """
-    layout = LegLayout.from_formation(formation) if formation.legs else None
+    describe = GaitDescriptor.of(formation)
     levels = np.array([len(j.levels_rad) for j in formation.joints], dtype=np.int64)
     record = _record(formation, rules, settings, seeds, seeded_from)
     longest = max((len(g) for g in seeds), default=0)
@@ -159,15 +156,12 @@ def build_repertoire(
         with ExactTrials(formation=formation, rules=rules, workers=workers) as trials:
             while emitter.told < settings.evaluations:
                 gaits = emitter.ask(min(settings.batch, settings.evaluations - emitter.told))
-                played = trials.rollouts(
-                    [SequencePolicy(commands=g) for g in gaits], steps=rules.task.trial_steps
-                )
+                played = trials.cycles(gaits, steps=rules.task.trial_steps)
                 pairs = list(zip(gaits, played, strict=True))
-                emitter.tell(
-                    gaits,
-                    np.array([describe(layout, g, t.poses) for g, t in pairs]),
-                    np.array([np.nan if t.failed else t.distance_m for t in played]),
-                )
+                descriptors = [describe(t.contacts, t.rollout.poses, len(g)) for g, t in pairs]
+                rollouts = [t.rollout for t in played]
+                distances = [np.nan if t.failed else t.distance_m for t in rollouts]
+                emitter.tell(gaits, np.array(descriptors), np.array(distances))
                 record.update(
                     evaluations_done=emitter.told,
                     wall_s=elapsed + time.perf_counter() - start,
@@ -212,7 +206,7 @@ def _record(
     seeds: Sequence[np.ndarray],
     seeded_from: Path | None,
 ) -> dict:
-    layout = LegLayout.from_formation(formation) if formation.legs else None
+    descriptor = GaitDescriptor.of(formation)
     digest = hashlib.sha256()
     for gait in seeds:
         digest.update(np.ascontiguousarray(gait, dtype=np.int64).tobytes() + b";")
@@ -221,8 +215,8 @@ def _record(
         "joints": [j.name for j in formation.joints],
         "levels": [len(j.levels_rad) for j in formation.joints],
         "world": rules.world.name,
-        "descriptor": "duty factor per leg" if layout else "turn and drift per cycle",
-        "descriptor_names": list(layout.names) if layout else ["turn", "drift"],
+        "descriptor": descriptor.kind,
+        "descriptor_names": list(descriptor.names),
         "trial_steps": rules.task.trial_steps,
         "settings": asdict(settings),
         "seeds": {
@@ -242,14 +236,15 @@ def _resume(
     if not (out / ARCHIVE).is_file():
         return empty_archive(formation, settings, longest=longest), search, 0, 0.0
     archive, saved = load_repertoire(out)
-    keys = ("formation", "joints", "levels", "world", "settings", "seeds")
+    keys = ("formation", "joints", "levels", "world", "descriptor", "settings", "seeds")
     mine, theirs = ({k: dict(r.get(k) or {}) if k == "settings" else r.get(k) for k in keys}
                     for r in (record, saved))  # fmt: skip
     for both in (mine, theirs):
         both["settings"].pop("evaluations", None)  # a build may go on to a larger budget
     if mine != theirs:
         message = (
-            "holds a repertoire of another body, world, settings or seeds; choose another --out"
+            "holds a repertoire of another body, world, descriptor, settings or seeds; choose "
+            "another --out"
         )
         raise RunFolderError(message, file=out)
     with np.load(out / ARCHIVE) as data:

@@ -133,6 +133,7 @@ class LocomotionEnv(gym.Env[np.ndarray, np.ndarray]):
         self._posture = self.start_levels.copy()
         self._pose: Pose = (0.0, 0.0, 0.0)
         self._steps = 0
+        self._contacts: list[np.ndarray] = []
         self.on_physics_step: Callable[[], None] | None = None
         """Called after every physics step of :meth:`step`, if set (to film within a step)."""
 
@@ -145,6 +146,7 @@ class LocomotionEnv(gym.Env[np.ndarray, np.ndarray]):
         self._posture = self.start_levels.copy()
         self._pose = (0.0, 0.0, 0.0)
         self._steps = 0
+        self._contacts = []
         return self._observation(), self._info(None)
 
     def step(self, action: np.ndarray) -> tuple[np.ndarray, float, bool, bool, dict[str, Any]]:
@@ -154,6 +156,7 @@ class LocomotionEnv(gym.Env[np.ndarray, np.ndarray]):
         before = self._pose
         outcome = self.lower_agent.execute(levels, on_physics_step=self.on_physics_step)
         self._steps += 1
+        self._contacts.append(outcome.contacts)
         self._posture = levels.copy()
         failed = outcome.failed
         if failed:
@@ -172,6 +175,12 @@ class LocomotionEnv(gym.Env[np.ndarray, np.ndarray]):
     def distance_covered(self) -> float:
         """Distance toward the light gained since the episode started (m)."""
         return self.task.covered((0.0, 0.0, 0.0), self._pose)
+
+    def contacts(self) -> np.ndarray:
+        """Which units touched the ground at each failure check of the episode so far,
+        (checks, units) bool, units in the formation's order."""
+        units = len(self.formation.units)
+        return np.concatenate([np.empty((0, units), dtype=bool), *self._contacts])
 
     def render(self) -> np.ndarray | None:
         """The camera's picture now, (height, width, 3) uint8, with ``render_mode`` set to

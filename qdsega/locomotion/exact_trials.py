@@ -1,8 +1,9 @@
 """Exact-physics trials in batches: in this process, or spread over worker processes.
 
 A batch is a list of open-loop posture sequences (:meth:`ExactTrials.replays`: reference
-gaits) or of closed-loop policies (:meth:`ExactTrials.rollouts`: a training run's greedy and
-exploring trials). Each worker builds one :class:`~qdsega.locomotion.env.LocomotionEnv`; every
+gaits), of closed-loop policies (:meth:`ExactTrials.rollouts`: a training run's greedy and
+exploring trials) or of posture cycles with their footfalls (:meth:`ExactTrials.cycles`: a
+repertoire's gaits). Each worker builds one :class:`~qdsega.locomotion.env.LocomotionEnv`; every
 trial starts from the env's settled snapshot, which restores exactly
 (``PhysicsSettings.deterministic_pairs``), so a trial's outcome does not depend on the number
 of workers or on which worker ran it, and a batch comes back in the order it was given.
@@ -11,15 +12,30 @@ of workers or on which worker ran it, and a batch comes back in the order it was
 from __future__ import annotations
 
 from collections.abc import Sequence
+from dataclasses import dataclass
 
 import numpy as np
 
-from qdsega.agent.policy import Policy, Rollout, rollout
+from qdsega.agent.policy import Policy, Rollout, SequencePolicy, rollout
 from qdsega.description import Formation
 from qdsega.locomotion.env import LocomotionEnv, Replay, replay_postures, rules_env
 from qdsega.locomotion.env_world import EnvWorld
 from qdsega.locomotion.rules import ExactRules
 from qdsega.workers.pool import Pool, worker_pool
+
+
+@dataclass(frozen=True)
+class CycleTrial:
+    """One trial of a posture cycle.
+
+    Attributes:
+        rollout: the trial.
+        contacts: which units touched the ground at each failure check of the trial,
+            (checks, units) bool, units in the formation's order.
+    """
+
+    rollout: Rollout
+    contacts: np.ndarray
 
 
 class ExactTrials:
@@ -66,6 +82,17 @@ class ExactTrials:
         self.commands += sum(len(t.postures) for t in trials)
         return trials
 
+    def cycles(self, cycles: Sequence[np.ndarray], *, steps: int) -> list[CycleTrial]:
+        """Each posture cycle (k, J) commanded in turn for one trial of at most ``steps``
+        commands, in order, with the trial's footfalls."""
+        if self._env is not None:
+            trials = [_cycle_trial(self._env, cycle, steps) for cycle in cycles]
+        else:
+            assert self._pool is not None
+            trials = list(self._pool.map(_cycle_in_worker, cycles, [steps] * len(cycles)))
+        self.commands += sum(len(t.rollout.postures) for t in trials)
+        return trials
+
     def close(self) -> None:
         if self._pool is not None:
             self._pool.shutdown(cancel_futures=True)
@@ -97,3 +124,13 @@ def _replay_in_worker(postures: np.ndarray) -> Replay:
 def _rollout_in_worker(policy: Policy, steps: int) -> Rollout:
     assert _worker_env is not None, "worker not initialised"
     return rollout(policy, EnvWorld(env=_worker_env), steps=steps)
+
+
+def _cycle_in_worker(cycle: np.ndarray, steps: int) -> CycleTrial:
+    assert _worker_env is not None, "worker not initialised"
+    return _cycle_trial(_worker_env, cycle, steps)
+
+
+def _cycle_trial(env: LocomotionEnv, cycle: np.ndarray, steps: int) -> CycleTrial:
+    played = rollout(SequencePolicy(commands=cycle), EnvWorld(env=env), steps=steps)
+    return CycleTrial(played, env.contacts())

@@ -117,10 +117,13 @@ class Outcome:
     Attributes:
         pose: body pose at the end of the step (or when it failed).
         failure: why the lower agent failed, or None when it succeeded.
+        contacts: which units touched the ground at each failure check of the step,
+            (checks, units) bool, units in the formation's order: the step's footfalls.
     """
 
     pose: BodyPose
     failure: str | None
+    contacts: np.ndarray
 
     @property
     def failed(self) -> bool:
@@ -146,6 +149,7 @@ class LowerAgent:
         # Only a legged body's trunk must stay off the ground; a snake's trunk is all of it.
         legged = bool(self.formation.legs)
         self._trunk_names = {u.name for u in self.formation.trunk_units} if legged else set()
+        self._unit_index = {u.name: i for i, u in enumerate(self.formation.units)}
 
     def pose(self) -> BodyPose:
         """The body's pose now."""
@@ -160,6 +164,7 @@ class LowerAgent:
         targets = np.array(self.formation.posture_rad(levels))
         self.sim.command(targets, speed_rad_s=self.config.joint_speed_rad_s)
         interval = self.config.check_interval_steps
+        contacts: list[np.ndarray] = []
         done = 0
         while done < self.physics_steps:
             chunk = min(interval, self.physics_steps - done)
@@ -170,19 +175,23 @@ class LowerAgent:
                     self.sim.step()
                     on_physics_step()
             done += chunk
-            pose, failure = self._check()
+            pose, failure = self._check(contacts)
             if failure is not None:
-                return Outcome(pose, failure)
+                return Outcome(pose, failure, self._stacked(contacts))
         errors = np.abs(self.sim.joint_positions() - targets)
         if np.any(errors > self.config.tolerance_rad):
             worst = int(np.argmax(errors))
             name = self.formation.joints[worst].name
-            return Outcome(
-                pose, f"joint {name} missed its level by {math.degrees(errors[worst]):.1f} deg"
-            )
-        return Outcome(pose, None)
+            failure = f"joint {name} missed its level by {math.degrees(errors[worst]):.1f} deg"
+            return Outcome(pose, failure, self._stacked(contacts))
+        return Outcome(pose, None, self._stacked(contacts))
 
-    def _check(self) -> tuple[BodyPose, str | None]:
+    def _stacked(self, contacts: list[np.ndarray]) -> np.ndarray:
+        return np.array(contacts, dtype=bool).reshape(-1, len(self._unit_index))
+
+    def _check(self, contacts: list[np.ndarray]) -> tuple[BodyPose, str | None]:
+        """The step's failure so far, if any; appends the units touching the ground now to
+        ``contacts`` (once the body is known to be upright and finite)."""
         # The trunk's state only: a non-finite value anywhere in an articulated body reaches
         # every link within one step.
         pose = self.pose()
@@ -190,6 +199,10 @@ class LowerAgent:
             return pose, "physics state is not finite"
         if pose.max_tilt_rad > self.config.max_tilt_rad:
             return pose, f"body flipped (tilt {math.degrees(pose.max_tilt_rad):.0f} deg)"
-        if self._trunk_names and self._trunk_names & self.sim.ground_contacts():
+        touching = self.sim.ground_contacts()
+        row = np.zeros(len(self._unit_index), dtype=bool)
+        row[[self._unit_index[name] for name in touching]] = True
+        contacts.append(row)
+        if self._trunk_names & touching:
             return pose, "trunk touched the ground"
         return pose, None

@@ -1,4 +1,4 @@
-"""Descriptors by hand on tiny gaits: duty factors from the commands, turn and drift from the
+"""Descriptors by hand on tiny gaits: duty factors from the footfalls, turn and drift from the
 poses."""
 
 import math
@@ -9,20 +9,36 @@ import pytest
 from qdsega.adaptation.descriptor import (
     DRIFT_BOUND_M,
     TURN_BOUND_RAD,
+    GaitDescriptor,
     duty_factors,
     turn_and_drift,
 )
 from qdsega.description import load_formation, resolve_formation
-from qdsega.msm import LegLayout
 
 
-def test_duty_factors_count_the_postures_with_each_leg_down():
+def test_duty_factors_are_each_legs_share_of_checks_on_the_ground():
+    legs = ((0, 1), (2, 3), (4,))  # two legs of two units and one of one
+    contacts = np.zeros((4, 6), dtype=bool)  # four checks; unit 5 is the trunk
+    contacts[:, 1] = True  # the first leg's foot always down ...
+    contacts[0, 0] = True  # ... and its upper unit once: still one contact a check
+    contacts[2:, 3] = True  # the second leg down in the last two checks
+    contacts[:, 5] = True  # the trunk's contacts count for no leg
+    assert duty_factors(legs, contacts).tolist() == [1.0, 0.5, 0.0]
+    assert duty_factors(legs, contacts[:0]).tolist() == [0.5, 0.5, 0.5]  # no check
+
+
+def test_a_legged_bodys_descriptor_is_its_legs_and_a_snakes_its_steering():
     quadruped = load_formation(resolve_formation("quadruped"))
-    layout = LegLayout.from_formation(quadruped)
-    cycle = np.zeros((4, len(quadruped.joints)), dtype=np.int64)  # every leg down ...
-    cycle[1, layout.lift[0]] = 1  # ... but the first leg up in one posture of four
-    cycle[2:, layout.lift[2]] = 1  # and the third in two
-    assert duty_factors(layout, cycle).tolist() == [0.75, 1.0, 0.5, 1.0]
+    descriptor = GaitDescriptor.of(quadruped)
+    assert descriptor.names == tuple(leg.name for leg in quadruped.legs)
+    units = [u.name for u in quadruped.units]
+    assert [[units[i] for i in leg] for leg in descriptor.legs] == [
+        list(leg.units) for leg in quadruped.legs
+    ]
+    snake = GaitDescriptor.of(load_formation(resolve_formation("snake5")))
+    assert snake.names == ("turn", "drift") and snake.size == 2
+    poses = np.array([[0, 0, 0], [0.1, 0, 0]])
+    assert snake(np.zeros((3, 5), dtype=bool), poses, 1).tolist() == [0.5, 0.5]
 
 
 def test_turn_and_drift_per_cycle_map_their_bounds_to_the_cube():

@@ -97,6 +97,27 @@ def test_lifting_every_leg_fails_and_ends_the_trial():
     assert info["failure"] == "trunk touched the ground"
 
 
+def test_contacts_record_the_episodes_footfalls():
+    legged = load_formation("assemblies/quadruped.yaml")
+    env = LocomotionEnv(formation=legged)
+    try:
+        observation, _ = env.reset(seed=0)
+        assert env.contacts().shape == (0, len(legged.units))
+        env.step(observation[:-1])  # stand at rest for a step
+        env.step(observation[:-1])
+        contacts = env.contacts()
+        checks = 2 * math.ceil(env.lower_agent.physics_steps / 12)
+        assert contacts.shape == (checks, len(legged.units))
+        index = {u.name: i for i, u in enumerate(legged.units)}
+        for leg in legged.legs:  # every leg stands on the ground (a contact may flicker) ...
+            assert contacts[:, [index[name] for name in leg.units]].any(axis=1).mean() >= 0.9
+        assert not contacts[:, [index[u.name] for u in legged.trunk_units]].any()  # ... not it
+        env.reset(seed=0)
+        assert len(env.contacts()) == 0
+    finally:
+        env.close()
+
+
 def test_a_posture_too_weak_joints_cannot_reach_fails(project):
     servo = project / "units" / "servo" / "unit.yaml"
     servo.write_text(servo.read_text().replace("effort_nm: 2.5", "effort_nm: 0.001"))

@@ -35,11 +35,16 @@ def test_trials_in_workers_equal_trials_here_in_order():
         ) as trials:
             rollouts = trials.rollouts(policies, steps=5)
             replays = trials.replays(sequences)
+            cycles = trials.cycles(sequences[:1], steps=5)
             assert trials.commands == sum(len(r.postures) for r in rollouts) + sum(
                 r.completed + (r.failure is not None) for r in replays
-            )
-        results.append((rollouts, replays))
-    (here, here_replays), (there, there_replays) = results
+            ) + len(cycles[0].rollout.postures)
+        results.append((rollouts, replays, cycles))
+    (here, here_replays, here_cycles), (there, there_replays, there_cycles) = results
+    assert np.array_equal(here_cycles[0].contacts, there_cycles[0].contacts)
+    assert here_cycles[0].contacts.shape[1] == len(formation.units)
+    assert here_cycles[0].contacts.any()  # a snake lies on the ground
+    assert np.array_equal(here_cycles[0].rollout.poses, here[-1].poses)  # the same gait
     for a, b in zip(here, there, strict=True):
         assert np.array_equal(a.postures, b.postures) and np.array_equal(a.poses, b.poses)
     assert here_replays == there_replays
