@@ -2,16 +2,19 @@
 
 Usage: .venv/bin/python experiments/adaptation/adaptation_table.py --repertoires DIR
            [--seeds 0 1 2] [--changes NEW ...] [--trials 20] [--length-scale L]
-           [--oracle] [--out runs/adaptation]
+           [--oracle] [--warm [--config FILE.yaml] [--workers 1]] [--out runs/adaptation]
 
 For each change (a shipped formation and its changed version, ``CHANGES``) and seed, the
 repertoire ``DIR/OLD-seedS`` (made with ``qdsega repertoire``) is adapted to the changed body
 (:func:`qdsega.adaptation.adapt.adapt`, into ``OUT/NEW-seedS``), and the table is printed and
 written to ``OUT/table.md``: the trials used, the exact distance found, the adaptation's wall
-time, and the fresh QDSEGA run's result F and the warm start's generations to 0.9 F for that
-change and seed (``YARDSTICK``). ``--oracle`` also plays every mapped gait of the repertoire
-on the changed body: the best the repertoire holds for it, which no trial budget can beat.
-A second table takes the median over the seeds of each change.
+time, and the fresh QDSEGA run's result F and the generations to 0.9 F of a run warm-started
+from the old policy for that change and seed (``YARDSTICK``). ``--oracle`` also plays every
+mapped gait of the repertoire on the changed body: the best the repertoire holds for it, which
+no trial budget can beat. ``--warm`` trains the changed body warm-started from the gait found
+(``qdsega train NEW --warm-start OUT/NEW-seedS``, memo mode, the body's own preset, the
+seed; into ``OUT/NEW-seedS-warm``, resumed where it stopped) and counts its generations to
+0.9 F. A second table takes the median over the seeds of each change.
 """
 
 from __future__ import annotations
@@ -27,6 +30,9 @@ from qdsega.adaptation.trial_model import LENGTH_SCALE
 from qdsega.agent.policy import SequencePolicy
 from qdsega.description import load_formation, resolve_formation
 from qdsega.progress import ProgressLine
+from qdsega.training.config import resolve_config
+from qdsega.training.run import train, train_or_resume
+from qdsega.training.run_folder import RunFolder
 
 CHANGES = (
     ("hexapod", "hexapod_lost_leg", "a front leg lost"),
@@ -41,9 +47,10 @@ YARDSTICK = {
     "snake6": ((2.231, 26), (2.686, 0), (1.740, 0)),
     "quadruped_tripod": ((0.663, 5), (0.541, 13), (0.532, 6)),
 }
-"""Per change, per seed 0-2: (the fresh QDSEGA run's F (m), the warm-started run's generations
-to 0.9 F), from docs/notes/2026-12-01-reconfiguration.md (its runs are not on every machine;
-``experiments/reconfiguration/reconfiguration_table.py`` makes them again)."""
+"""Per change, per seed 0-2: (the fresh QDSEGA run's F (m), the generations to 0.9 F of a run
+warm-started from the old policy), from docs/notes/2026-12-01-reconfiguration.md (its runs are
+not on every machine; ``experiments/reconfiguration/reconfiguration_table.py`` makes them
+again)."""
 AIM_SHARE = 0.8
 AIM_TRIALS = 20
 AIM_WALL_S = 120.0
@@ -57,7 +64,8 @@ COLUMNS = (
     "F (m)",
     "found / F",
     "wall (s)",
-    "warm start: generations to 0.9 F",
+    "warm from the old policy: generations to 0.9 F",
+    "warm from the gait found: generations (steps) to 0.9 F",
     "best in the repertoire on the changed body (m)",
 )
 
@@ -74,12 +82,33 @@ def oracle(mapped: MappedRepertoire) -> float:
     return max(t.distance_m for t in played)
 
 
+def warm_generations(
+    adaptation: Path, changed: Path, seed: int, target_m: float, args: argparse.Namespace
+) -> str:
+    """Train ``changed`` warm-started from ``adaptation``'s gait (memo mode, the body's own
+    preset, ``seed``; resumed where it stopped) and say when it first covered ``target_m``:
+    generations (simulated steps), or never."""
+    from qdsega.adaptation.adapt import warm_start_from
+
+    overrides = {"sim": "memo", "seed": seed, "workers": args.workers}
+    formation = load_formation(changed)
+    config = resolve_config(file=args.config, overrides=overrides, formation=formation)
+    run = adaptation.with_name(adaptation.name + "-warm")
+    if RunFolder(run).started:
+        train_or_resume(changed, config, run)
+    else:
+        train(changed, config, run, warm_start=warm_start_from(adaptation, formation))
+    generations, steps = RunFolder(run).reached(target_m)
+    return "never" if generations is None else f"{generations} ({steps:,})"
+
+
 def row(
     repertoires: Path, out: Path, change: tuple[str, str, str], seed: int, args: argparse.Namespace
 ) -> dict[str, Any]:
     old, new, what = change
     repertoire = repertoires / f"{old}-seed{seed}"
-    changed = load_formation(resolve_formation(new))
+    changed_file = resolve_formation(new)
+    changed = load_formation(changed_file)
     start = time.perf_counter()
     result = adapt(
         repertoire,
@@ -91,7 +120,11 @@ def row(
     wall = time.perf_counter() - start  # loading and mapping too, not only the trials
     mapped = MappedRepertoire.of(repertoire, changed)
     built = mapped.record
-    fresh_f, warm_generations = YARDSTICK[new][seed]
+    fresh_f, warm_from_old = YARDSTICK[new][seed]
+    warm_found = "-"
+    if args.warm:
+        adaptation = out / f"{new}-seed{seed}"
+        warm_found = warm_generations(adaptation, changed_file, seed, 0.9 * fresh_f, args)
     return {
         "change": f"{what} (`{new}`)",
         "seed": seed,
@@ -101,7 +134,8 @@ def row(
         "F": fresh_f,
         "share": result["distance_m"] / fresh_f,
         "wall": wall,
-        "warm": warm_generations,
+        "warm": warm_from_old,
+        "warm_found": warm_found,
         "oracle": oracle(mapped) if args.oracle else None,
     }
 
@@ -112,7 +146,8 @@ def markdown(rows: list[dict[str, Any]]) -> str:
         best = "-" if r["oracle"] is None else f"{r['oracle']:.3f} ({r['oracle'] / r['F']:.2f} F)"
         cells = (
             r["change"], r["seed"], r["repertoire"], r["trials"], f"{r['found']:.3f}",
-            f"{r['F']:.3f}", f"{r['share']:.2f}", f"{r['wall']:.1f}", r["warm"], best,
+            f"{r['F']:.3f}", f"{r['share']:.2f}", f"{r['wall']:.1f}", r["warm"], r["warm_found"],
+            best,
         )  # fmt: skip
         lines.append("| " + " | ".join(map(str, cells)) + " |")
     lines += [
@@ -142,6 +177,11 @@ def main() -> None:
     parser.add_argument("--trials", type=int, default=AIM_TRIALS)
     parser.add_argument("--length-scale", type=float, default=LENGTH_SCALE)
     parser.add_argument("--oracle", action="store_true", help="also play every mapped gait")
+    parser.add_argument("--warm", action="store_true", help="also train from the gait found")
+    parser.add_argument(
+        "--config", type=Path, metavar="FILE.yaml", help="settings over each warm run's preset"
+    )
+    parser.add_argument("--workers", type=int, default=1, help="processes of each warm run")
     parser.add_argument("--out", type=Path, default=Path("runs/adaptation"))
     args = parser.parse_args()
     changes = [c for c in CHANGES if args.changes is None or c[1] in args.changes]

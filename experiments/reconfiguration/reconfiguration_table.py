@@ -32,8 +32,6 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-import numpy as np
-
 from qdsega.analysis.evaluation import evaluate_on
 from qdsega.description import load_formation, resolve_formation
 from qdsega.errors import QdsegaError
@@ -136,22 +134,6 @@ def transfer(base: Path, new: str) -> float:
     return float(result["distance_m"])
 
 
-def reach(run: Path, target_m: float) -> Reach:
-    """The first generation whose greedy policy covers ``target_m`` with exact physics, and
-    the run's simulated steps by its end; generation 0 (and the commands of that one trial)
-    for a warm run whose handed-on path, verified before generation 1 (``handed_on_m`` in
-    ``warm_start.json``), already covers it; (None, None) when no generation does."""
-    folder = RunFolder(run)
-    record = folder.read_warm_start()
-    if record is not None and record.get("handed_on_m", -1.0) >= target_m:
-        return 0, int(record["handed_on_steps"])
-    metrics = folder.read_metrics()
-    hits = np.flatnonzero(metrics["greedy_exact_m"] >= target_m)
-    if not hits.size:
-        return None, None
-    return int(metrics["generation"][hits[0]]), int(metrics["sim_steps"][hits[0]])
-
-
 def handed_on(run: Path) -> str:
     """How far a warm run's handed-on path walked when verified (m), or why it is unknown."""
     record = RunFolder(run).read_warm_start() or {}
@@ -191,7 +173,7 @@ def measure(
     final = train_or_resume(new_file, new_config, fresh)["distance_m"]
     warm_run(new_file, new_config, warm, base)
     target = 0.9 * final
-    fresh_reach, warm_reach = reach(fresh, target), reach(warm, target)
+    fresh_reach, warm_reach = RunFolder(fresh).reached(target), RunFolder(warm).reached(target)
     share = (
         warm_reach[0] / fresh_reach[0]
         if warm_reach[0] is not None and fresh_reach[0] is not None

@@ -131,6 +131,20 @@ class RunFolder:
             return None
         return self.read_json(self.WARM_START)
 
+    def reached(self, target_m: float) -> tuple[int | None, int | None]:
+        """The first generation whose greedy policy covers ``target_m`` in exact physics, and
+        the run's simulated steps by its end. A warm run whose handed-on path, verified before
+        generation 1, already covers it reached it at generation 0, in that one trial's
+        commands. (None, None) when no generation does."""
+        record = self.read_warm_start()
+        if record is not None and record.get("handed_on_m", -1.0) >= target_m:
+            return 0, int(record["handed_on_steps"])
+        metrics = self.read_metrics()
+        hits = np.flatnonzero(metrics["greedy_exact_m"] >= target_m)
+        if not hits.size:
+            return None, None
+        return int(metrics["generation"][hits[0]]), int(metrics["sim_steps"][hits[0]])
+
     def read_json(self, name: str) -> Any:
         """The JSON file ``name``.
 

@@ -190,9 +190,13 @@ def test_adaptation_table_adapts_a_tiny_repertoire(tmp_path):
         capture_output=True, text=True, cwd=ROOT, timeout=300, check=False,
     )  # fmt: skip
     assert built.returncode == 0, built.stderr
+    (tmp_path / "tiny.yaml").write_text(TINY)
     result = script(ON_A_REPERTOIRE, "--repertoires", repertoires, "--seeds", "0", "--trials",
-                    "2", "--oracle", "--out", tmp_path / "out")  # fmt: skip
+                    "2", "--oracle", "--warm", "--config", tmp_path / "tiny.yaml", "--out",
+                    tmp_path / "out")  # fmt: skip
     assert result.returncode == 0, result.stderr
     assert "| a back leg lost (tripod) (`quadruped_tripod`) | 0 | " in result.stdout
     assert "skipped hexapod_lost_leg seed 0: no hexapod-seed0 repertoire" in result.stdout
     assert (tmp_path / "out" / "quadruped_tripod-seed0" / "adapt.json").is_file()
+    warm = tmp_path / "out" / "quadruped_tripod-seed0-warm"
+    assert (warm / "warm_start.json").is_file() and (warm / "summary.json").is_file()
