@@ -20,6 +20,7 @@ seed; into ``OUT/NEW-seedS-warm``, resumed where it stopped) and counts its gene
 from __future__ import annotations
 
 import argparse
+import math
 import statistics
 import time
 from pathlib import Path
@@ -84,10 +85,10 @@ def oracle(mapped: MappedRepertoire) -> float:
 
 def warm_generations(
     adaptation: Path, changed: Path, seed: int, target_m: float, args: argparse.Namespace
-) -> str:
+) -> tuple[int | None, int | None]:
     """Train ``changed`` warm-started from ``adaptation``'s gait (memo mode, the body's own
-    preset, ``seed``; resumed where it stopped) and say when it first covered ``target_m``:
-    generations (simulated steps), or never."""
+    preset, ``seed``; resumed where it stopped): the generation and simulated steps by which
+    it first covered ``target_m`` ((None, None): never)."""
     from qdsega.adaptation.adapt import warm_start_from
 
     overrides = {"sim": "memo", "seed": seed, "workers": args.workers}
@@ -98,8 +99,7 @@ def warm_generations(
         train_or_resume(changed, config, run)
     else:
         train(changed, config, run, warm_start=warm_start_from(adaptation, formation))
-    generations, steps = RunFolder(run).reached(target_m)
-    return "never" if generations is None else f"{generations} ({steps:,})"
+    return RunFolder(run).reached(target_m)
 
 
 def row(
@@ -121,7 +121,7 @@ def row(
     mapped = MappedRepertoire.of(repertoire, changed)
     built = mapped.record
     fresh_f, warm_from_old = YARDSTICK[new][seed]
-    warm_found = "-"
+    warm_found = None
     if args.warm:
         adaptation = out / f"{new}-seed{seed}"
         warm_found = warm_generations(adaptation, changed_file, seed, 0.9 * fresh_f, args)
@@ -146,14 +146,17 @@ def markdown(rows: list[dict[str, Any]]) -> str:
         best = "-" if r["oracle"] is None else f"{r['oracle']:.3f} ({r['oracle'] / r['F']:.2f} F)"
         cells = (
             r["change"], r["seed"], r["repertoire"], r["trials"], f"{r['found']:.3f}",
-            f"{r['F']:.3f}", f"{r['share']:.2f}", f"{r['wall']:.1f}", r["warm"], r["warm_found"],
+            f"{r['F']:.3f}", f"{r['share']:.2f}", f"{r['wall']:.1f}", r["warm"],
+            _reached(r["warm_found"]),
             best,
         )  # fmt: skip
         lines.append("| " + " | ".join(map(str, cells)) + " |")
     lines += [
         "",
-        "| change | seeds | median found / F | median trials | median wall (s) | aim met |",
-        "|---|---|---|---|---|---|",
+        "| change | seeds | median found / F | median trials | median wall (s) | aim met "
+        "| median warm from the old policy: generations | median warm from the gait found: "
+        "generations |",
+        "|---|---|---|---|---|---|---|---|",
     ]
     for change in dict.fromkeys(r["change"] for r in rows):
         mine = [r for r in rows if r["change"] == change]
@@ -162,11 +165,25 @@ def markdown(rows: list[dict[str, Any]]) -> str:
         wall = statistics.median(r["wall"] for r in mine)
         met = share >= AIM_SHARE and trials <= AIM_TRIALS and wall <= AIM_WALL_S
         seeds = ", ".join(str(r["seed"]) for r in mine)
+        old = statistics.median(r["warm"] for r in mine)
+        found = [r["warm_found"] for r in mine]
+        warm = "-"
+        if None not in found:  # never counts as more than any number of generations
+            middle = statistics.median_low(math.inf if g is None else g for g, _ in found)
+            warm = "never" if math.isinf(middle) else f"{middle:g}"
         lines.append(
             f"| {change} | {seeds} | {share:.2f} | {trials:g} | {wall:.1f} | "
-            f"{'yes' if met else 'no'} |"
+            f"{'yes' if met else 'no'} | {old:g} | {warm} |"
         )
     return "\n".join(lines) + "\n"
+
+
+def _reached(reached: tuple[int | None, int | None] | None) -> str:
+    """A warm run's generations (simulated steps) to 0.9 F, never, or - (not trained)."""
+    if reached is None:
+        return "-"
+    generations, steps = reached
+    return "never" if generations is None else f"{generations} ({steps:,})"
 
 
 def main() -> None:
