@@ -32,6 +32,7 @@ from qdsega.agent.policy import SequencePolicy
 from qdsega.description import load_formation, resolve_formation
 from qdsega.progress import ProgressLine
 from qdsega.training.config import resolve_config
+from qdsega.training.progress import ProgressDisplay
 from qdsega.training.run import train, train_or_resume
 from qdsega.training.run_folder import RunFolder
 
@@ -95,10 +96,12 @@ def warm_generations(
     formation = load_formation(changed)
     config = resolve_config(file=args.config, overrides=overrides, formation=formation)
     run = adaptation.with_name(adaptation.name + "-warm")
+    progress = ProgressDisplay()  # minutes per run: its generations and the time left
     if RunFolder(run).started:
-        train_or_resume(changed, config, run)
+        train_or_resume(changed, config, run, progress=progress)
     else:
-        train(changed, config, run, warm_start=warm_start_from(adaptation, formation))
+        warm = warm_start_from(adaptation, formation)
+        train(changed, config, run, warm_start=warm, progress=progress)
     return RunFolder(run).reached(target_m)
 
 
