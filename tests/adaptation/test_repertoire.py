@@ -84,6 +84,14 @@ def test_another_body_or_a_corrupt_archive_is_refused_in_one_line(tmp_path):
     shutil.copy(out / "repertoire.npz", broken / "repertoire.npz")
     with pytest.raises(RunFolderError, match="do not fit"):
         load_repertoire(broken)
+    old = tmp_path / "old"  # built before the descriptor was measured
+    shutil.copytree(out, old)
+    commanded = {**record, "descriptor": "duty factor per leg"}
+    (old / "repertoire.json").write_text(json.dumps(commanded))
+    kept = {p: p.read_bytes() for p in old.rglob("*") if p.is_file()}
+    with pytest.raises(RunFolderError, match="another body, world, descriptor"):
+        _build(old, 32)
+    assert {p: p.read_bytes() for p in old.rglob("*") if p.is_file()} == kept
 
 
 def test_a_run_seeds_the_repertoire_with_its_verified_gaits(tiny_run, tmp_path):
