@@ -73,8 +73,9 @@ class GaitDescriptor:
         """Duty factors for a body with legs, else the turn and drift."""
         if not formation.legs:
             return cls("turn and drift per cycle", ("turn", "drift"), ())
-        index = {u.name: i for i, u in enumerate(formation.units)}
-        legs = tuple(tuple(index[name] for name in leg.units) for leg in formation.legs)
+        legs = tuple(
+            tuple(formation.unit_index[name] for name in leg.units) for leg in formation.legs
+        )
         names = tuple(leg.name for leg in formation.legs)
         return cls("measured ground contact per leg", names, legs)
 

@@ -174,6 +174,11 @@ class Formation:
             if u.is_actuated
         )
 
+    @cached_property
+    def unit_index(self) -> dict[str, int]:
+        """Each unit's position in :attr:`units`, by name: the columns of a contact record."""
+        return {u.name: i for i, u in enumerate(self.units)}
+
     def joint_index(self, joint_name: str) -> int:
         """Position of ``joint_name`` in :attr:`joints`."""
         names = [j.name for j in self.joints]

@@ -149,7 +149,6 @@ class LowerAgent:
         # Only a legged body's trunk must stay off the ground; a snake's trunk is all of it.
         legged = bool(self.formation.legs)
         self._trunk_names = {u.name for u in self.formation.trunk_units} if legged else set()
-        self._unit_index = {u.name: i for i, u in enumerate(self.formation.units)}
 
     def pose(self) -> BodyPose:
         """The body's pose now."""
@@ -187,7 +186,7 @@ class LowerAgent:
         return Outcome(pose, None, self._stacked(contacts))
 
     def _stacked(self, contacts: list[np.ndarray]) -> np.ndarray:
-        return np.array(contacts, dtype=bool).reshape(-1, len(self._unit_index))
+        return np.array(contacts, dtype=bool).reshape(-1, len(self.formation.unit_index))
 
     def _check(self, contacts: list[np.ndarray]) -> tuple[BodyPose, str | None]:
         """The step's failure so far, if any; appends the units touching the ground now to
@@ -200,8 +199,8 @@ class LowerAgent:
         if pose.max_tilt_rad > self.config.max_tilt_rad:
             return pose, f"body flipped (tilt {math.degrees(pose.max_tilt_rad):.0f} deg)"
         touching = self.sim.ground_contacts()
-        row = np.zeros(len(self._unit_index), dtype=bool)
-        row[[self._unit_index[name] for name in touching]] = True
+        row = np.zeros(len(self.formation.unit_index), dtype=bool)
+        row[[self.formation.unit_index[name] for name in touching]] = True
         contacts.append(row)
         if self._trunk_names & touching:
             return pose, "trunk touched the ground"
