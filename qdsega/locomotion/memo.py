@@ -258,14 +258,22 @@ def _init_worker(
 
 def _measure_from(source: np.ndarray, targets: np.ndarray) -> np.ndarray:
     """Rows (dx m, dy m, dtheta rad, failed 0/1) for ``source -> target``, shape (m, 4): the
-    mean move over the spots; failed where it failed at any spot."""
+    mean move over the spots; failed where it failed at any spot, so a move that failed at one
+    spot is not measured at the next."""
     bench = _bench
     assert bench is not None, "worker not initialised"
-    each = np.array([_measure_at(bench, spot, source, targets) for spot in bench.spots])
-    failed = (each[..., 3] > 0.5).any(axis=0)
+    failed = np.zeros(len(targets), dtype=bool)
+    moved = np.zeros((len(targets), 3))
+    for spot in bench.spots:
+        alive = np.flatnonzero(~failed)
+        if alive.size == 0:
+            break
+        each = _measure_at(bench, spot, source, targets[alive])
+        moved[alive] += each[:, :3]
+        failed[alive[each[:, 3] > 0.5]] = True
     rows = np.zeros((len(targets), _FIELDS))
     rows[failed, 3] = 1.0
-    rows[~failed, :3] = each[:, ~failed, :3].mean(axis=0)
+    rows[~failed, :3] = moved[~failed] / len(bench.spots)
     return rows
 
 
