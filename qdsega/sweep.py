@@ -29,6 +29,10 @@ import csv
 import io
 import itertools
 import multiprocessing
+import os
+import signal
+import threading
+import time
 from collections.abc import Callable, Sequence
 from concurrent.futures import ProcessPoolExecutor, as_completed
 from dataclasses import dataclass
@@ -50,6 +54,9 @@ from qdsega.training.config import SIMULATORS, default_preset, resolve_config
 from qdsega.training.run import TrainingInterrupted, train_or_resume
 from qdsega.training.run_folder import RunFolder
 from qdsega.yaml_reader import YamlDocument, load_yaml
+
+PARENT_CHECK_S = 1.0
+"""How often a run's process checks that the sweep that started it is still there (s)."""
 
 GRID_KEYS = ("formations", "worlds", "seeds", "sim", "presets", "configs", "reference_trials")
 """The keys a grid file may have."""
@@ -195,6 +202,29 @@ def _list_of(
     return items
 
 
+_sweep: int | None = None
+"""In a run's process: the process id of the sweep that started it."""
+
+
+def _stop_with_the_sweep() -> None:
+    """In a run's process: once the sweep that started it is gone (killed, not stopped by
+    Ctrl-C), stop the run as Ctrl-C would (its checkpoint kept), then end the process, so
+    that nothing goes on writing a run folder without the sweep."""
+    global _sweep
+    _sweep = os.getppid()
+
+    def watch() -> None:
+        while not _sweep_gone():
+            time.sleep(PARENT_CHECK_S)
+        os.kill(os.getpid(), signal.SIGINT)
+
+    threading.Thread(target=watch, name="sweep-watch", daemon=True).start()
+
+
+def _sweep_gone() -> bool:
+    return _sweep is not None and os.getppid() != _sweep
+
+
 _stopped = False
 """Whether this process saw Ctrl-C: a run handed to it after that (a process pool queues one
 ahead) does not start."""
@@ -211,6 +241,8 @@ def run_one(run: SweepRun, folder: Path) -> str:
         return _train_and_evaluate(run, folder)
     except (KeyboardInterrupt, TrainingInterrupted):
         _stopped = True
+        if _sweep_gone():  # the run stopped and saved; nothing waits for this process now
+            os._exit(130)
         raise KeyboardInterrupt from None
 
 
@@ -280,7 +312,9 @@ def run_sweep(
                 ended(index, cluster.get(task))
         else:
             spawn = multiprocessing.get_context("spawn")  # each run in a fresh process of its own
-            with ProcessPoolExecutor(jobs, mp_context=spawn) as pool:
+            with ProcessPoolExecutor(
+                jobs, mp_context=spawn, initializer=_stop_with_the_sweep
+            ) as pool:
                 futures = {
                     pool.submit(run_one, run, folder): index
                     for index, (run, folder) in enumerate(zip(runs, folders, strict=True))

@@ -4,7 +4,9 @@ from __future__ import annotations
 
 import csv
 import json
+import os
 import signal
+import time
 from pathlib import Path
 
 import pytest
@@ -133,3 +135,32 @@ def test_ctrl_c_stops_the_sweep_and_the_runs_not_started_never_start(tmp_path):
     assert "qdsega sweep: interrupted" in stderr
     for queued in ("seed1", "seed2"):  # seed1 was queued on the run's process: it never starts
         assert not (out / f"quadruped-paper-legged-slow-{queued}").exists()
+
+
+def test_a_killed_sweep_takes_its_runs_with_it(tmp_path):
+    grid = tmp_path / "grid.yaml"
+    grid.write_text(
+        "formations: [quadruped]\nseeds: [0]\nsim: msm\n"
+        "configs:\n  slow: {agent: {genetic: {generations: 200, population: 6}}, workers: 1}\n"
+        "reference_trials: 0\n"
+    )
+    out = tmp_path / "out"
+    process = start_cli("sweep", grid, "--out", out, "--jobs", "1")
+    first = out / "quadruped-paper-legged-slow-seed0" / "checkpoint.npz"
+    deadline = time.monotonic() + 120
+    while not first.is_file():
+        assert process.poll() is None and time.monotonic() < deadline, "the run did not start"
+        time.sleep(0.01)
+    process.kill()  # the sweep alone, not its process group: its run's process is orphaned
+    process.wait()
+    deadline = time.monotonic() + 30
+    while time.monotonic() < deadline:  # the orphaned run stops as Ctrl-C would stop it
+        try:
+            os.killpg(process.pid, 0)
+        except ProcessLookupError:
+            break
+        time.sleep(0.1)
+    else:
+        os.killpg(process.pid, signal.SIGKILL)
+        pytest.fail("the run went on after its sweep was killed")
+    assert first.is_file()  # its checkpoint is kept for the next sweep to resume
