@@ -6,6 +6,7 @@ import csv
 import json
 import os
 import signal
+import subprocess
 import time
 from pathlib import Path
 
@@ -119,16 +120,22 @@ def test_a_grid_of_worlds_trains_each_body_in_each_world(tmp_path):
     assert summary["world"] == "ice"
 
 
-def test_ctrl_c_stops_the_sweep_and_the_runs_not_started_never_start(tmp_path):
+def _slow_sweep(tmp_path: Path, seeds: str) -> tuple[subprocess.Popen[str], Path, Path]:
+    """A sweep of long quadruped runs started in its own process group: the process, its
+    output folder and the first run's checkpoint."""
     grid = tmp_path / "grid.yaml"
     grid.write_text(
-        "formations: [quadruped]\nseeds: [0, 1, 2]\nsim: msm\n"
+        f"formations: [quadruped]\nseeds: [{seeds}]\nsim: msm\n"
         "configs:\n  slow: {agent: {genetic: {generations: 200, population: 6}}, workers: 1}\n"
         "reference_trials: 0\n"
     )
     out = tmp_path / "out"
     process = start_cli("sweep", grid, "--out", out, "--jobs", "1")
-    first = out / "quadruped-paper-legged-slow-seed0" / "checkpoint.npz"
+    return process, out, out / "quadruped-paper-legged-slow-seed0" / "checkpoint.npz"
+
+
+def test_ctrl_c_stops_the_sweep_and_the_runs_not_started_never_start(tmp_path):
+    process, out, first = _slow_sweep(tmp_path, "0, 1, 2")
     stop_when(process, first.is_file, signal.SIGINT)
     _, stderr = process.communicate(timeout=60)
     assert process.returncode == 130, stderr
@@ -138,15 +145,7 @@ def test_ctrl_c_stops_the_sweep_and_the_runs_not_started_never_start(tmp_path):
 
 
 def test_a_killed_sweep_takes_its_runs_with_it(tmp_path):
-    grid = tmp_path / "grid.yaml"
-    grid.write_text(
-        "formations: [quadruped]\nseeds: [0]\nsim: msm\n"
-        "configs:\n  slow: {agent: {genetic: {generations: 200, population: 6}}, workers: 1}\n"
-        "reference_trials: 0\n"
-    )
-    out = tmp_path / "out"
-    process = start_cli("sweep", grid, "--out", out, "--jobs", "1")
-    first = out / "quadruped-paper-legged-slow-seed0" / "checkpoint.npz"
+    process, _, first = _slow_sweep(tmp_path, "0")
     deadline = time.monotonic() + 120
     while not first.is_file():
         assert process.poll() is None and time.monotonic() < deadline, "the run did not start"
