@@ -222,6 +222,7 @@ def resume(run: Path | str, *, progress: Progress | None = None) -> dict[str, An
 
     Raises:
         RunFolderError: missing, corrupt or finished run folder; another process is writing it.
+        WorldError: a body that would start inside one of the world's obstacles.
         TrainingInterrupted: Ctrl-C; ``run`` holds the last finished generation.
     """
     run = Path(run)
@@ -235,12 +236,13 @@ def resume(run: Path | str, *, progress: Progress | None = None) -> dict[str, An
             file=run,
         )
     config = read_run_config(run)
+    formation = load_run_formation(run, config)
+    check_sim(formation, config, load_run_world(run))  # a folder older than the check
     with run_lock(run):
         if folder.finished:
             raise RunFolderError(
                 f"run is finished ({folder.SUMMARY} exists); nothing to resume", file=run
             )
-        formation = load_run_formation(run, config)
         return _run(folder, formation, config, load_checkpoint(run), progress)
 
 

@@ -9,12 +9,14 @@ import json
 import shutil
 
 import pytest
+import yaml
 from helpers import TINY_TRAINING, run_cli
 
 from qdsega.baselines.reference_search import reference_key
 from qdsega.description import load_formation, load_world, resolve_formation, resolve_world
 from qdsega.locomotion.rules import ExactRules
-from qdsega.training.formation_copy import load_run_world
+from qdsega.training.config import resolve_config
+from qdsega.training.formation_copy import FormationSnapshot, copy_world, load_run_world
 from qdsega.training.sims import VARIED_GROUND_SPOTS
 
 SNAKE = load_formation(resolve_formation("snake5"))
@@ -86,3 +88,17 @@ def test_a_body_that_would_start_inside_an_obstacle_is_refused_before_anything_i
     assert result.returncode == 2 and len(result.stderr.splitlines()) == 1, result.stderr
     assert "corridor.yaml: quadruped starts inside an obstacle of corridor" in result.stderr
     assert not out.exists()
+
+
+def test_a_run_folder_whose_body_cannot_start_is_refused_on_resume(tmp_path):
+    out = tmp_path / "run"  # written as train did before it checked the start
+    out.mkdir()
+    config = resolve_config(overrides={"sim": "memo"})
+    (out / "config.yaml").write_text(yaml.safe_dump(config.to_dict(), sort_keys=False))
+    FormationSnapshot.of(load_formation(resolve_formation("quadruped"))).write(out)
+    copy_world(load_world(resolve_world("corridor")), out)
+    before = sorted(out.rglob("*"))
+    result = run_cli("train", "--resume", out)
+    assert result.returncode == 2 and len(result.stderr.splitlines()) == 1, result.stderr
+    assert "quadruped starts inside an obstacle of corridor" in result.stderr
+    assert sorted(out.rglob("*")) == before
