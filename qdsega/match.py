@@ -196,13 +196,15 @@ def _heatmap(
             if cell is not None and cell.distance_m is not None:
                 values[i, j] = cell.distance_m
     fig, ax = plt.subplots(figsize=(1.4 * len(worlds) + 2.5, 0.6 * len(formations) + 1.8))
-    image = ax.imshow(values, cmap="viridis")
+    image = ax.imshow(values, cmap="viridis", aspect="auto")  # cells fill the figure
     ax.set_xticks(range(len(worlds)), worlds, rotation=30, ha="right")
     ax.set_yticks(range(len(formations)), formations)
     for i in range(len(formations)):
         for j in range(len(worlds)):
-            text = "-" if np.isnan(values[i, j]) else f"{values[i, j]:.2f}"
-            ax.text(j, i, text, ha="center", va="center", color="white", fontsize=9)
+            empty = np.isnan(values[i, j])
+            text = "-" if empty else f"{values[i, j]:.2f}"
+            colour = "black" if empty else "white"  # an empty cell is drawn white
+            ax.text(j, i, text, ha="center", va="center", color=colour, fontsize=9)
     fig.colorbar(image, ax=ax, label="exact distance (m)")
     ax.set_title("which body for which world")
     fig.tight_layout()
