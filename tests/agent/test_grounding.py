@@ -150,3 +150,42 @@ def test_paths_round_trip_and_refuse_a_malformed_tree():
     state["path_parents"] = np.array([0, 5, 1])
     with pytest.raises(ValueError, match="do not fit"):
         copy.restore(state)
+
+
+class _SlopeBase(_Base):
+    """Every move 1 cm forward, told apart in two headings."""
+
+    def transitions(self, from_postures, to_postures) -> Transitions:
+        plain = super().transitions(from_postures, to_postures)
+        return Transitions(
+            dx=np.vstack([plain.dx] * 2),
+            dy=np.vstack([plain.dy] * 2),
+            dtheta=np.vstack([plain.dtheta] * 2),
+            failed=np.vstack([plain.failed] * 2),
+            headings=2,
+        )
+
+
+def test_where_headings_are_told_apart_a_move_is_kept_under_the_sector_it_began_in():
+    table = GroundedTransitions(base=_SlopeBase(), headings=2)
+    # 0 -> 1 facing +x: 0.1 m ahead, turning round; 1 -> 2 facing -x: 0.2 m toward +x.
+    trial = _trial([1, 2], [0.0, 0.1, 0.3])
+    trial.poses[1:, 2] = np.pi
+    table.observe(trial, P[0])
+    t = table.transitions(P, P)
+    assert t.headings == 2 and t.dx.shape == (6, 3)
+    assert t.dx[0, 1] == pytest.approx(0.1)  # row 0: posture 0, facing +x
+    assert t.dx[3 + 1, 2] == pytest.approx(-0.2)  # row 4: posture 1, facing -x
+    assert t.dx[1, 2] < 0.01  # posture 1 facing +x: never observed, the base less its gap
+    in_context, row = t.row(0, 3 + 1)  # row 4 entered from row 0
+    assert in_context.dx[row, 2] == pytest.approx(-0.2)
+    copy = GroundedTransitions(base=_SlopeBase(), headings=2)
+    copy.restore(table.state())
+    again = copy.transitions(P, P)
+    np.testing.assert_array_equal(again.dx, t.dx)
+    np.testing.assert_array_equal(again.context, t.context)
+    assert copy.base_gap_m() == table.base_gap_m()
+    with pytest.raises(ValueError, match="tells 2 headings apart, not 1"):
+        GroundedTransitions(base=_SlopeBase()).transitions(P, P)
+    with pytest.raises(ValueError, match="do not fit this body"):
+        GroundedTransitions(base=_Base()).restore(table.state())
