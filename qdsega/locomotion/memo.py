@@ -19,7 +19,9 @@ On a slope a move depends on which way the body faces: a snake facing uphill sli
 its body, one lying across the slope barely slides. There each move is measured facing each of
 ``headings`` sectors of the compass and kept per sector (:class:`~qdsega.agent.world.Transitions`
 rows), so a walk through the table slides as the body would where it faces; a body-frame slide
-measured facing uphill would otherwise carry a body turned downhill up the hill.
+measured facing uphill would otherwise carry a body turned downhill up the hill. A body that
+turns while it settles on the slope is placed again, turned back by as much, so that it starts
+facing its sector.
 
 Missing transitions are filled on demand, grouped by start posture (one settle, a snapshot,
 then every target from that snapshot) and spread over worker processes. Each worker builds the
@@ -29,6 +31,7 @@ made them or in which order.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Iterator
 from pathlib import Path
 
@@ -51,6 +54,10 @@ PROGRESS_DELAY_S = 5.0
 batches of a training run stay quiet between its per-generation lines."""
 
 _FIELDS = 4  # dx, dy, dtheta, failed
+
+HEADING_TRIES = 4
+"""Where headings are told apart, how often a start is placed again, turned back by what the
+body turned while it settled, until it faces its sector (the last try stands)."""
 
 SPOT_SPACING_M = 0.25
 """How far apart the spots a move is measured from lie along the way to the light (m)."""
@@ -321,21 +328,15 @@ def _measure_at(
     (rad); every move fails where the body cannot be placed there (inside an obstacle)."""
     sim, agent = bench.sim, bench.agent
     rows = np.zeros((len(targets), _FIELDS))
-    sim.restore_state(bench.pristine)
-    try:
-        sim.reset(bench.formation.posture_rad(bench.rest), xy_m=spot, yaw_rad=yaw)
-    except WorldError:
-        rows[:, 3] = 1.0
-        return rows
-    sim.step(bench.settle_steps)
-    if agent.execute(source).failed:  # not reachable from rest: teleport into it instead
-        sim.restore_state(bench.pristine)
-        try:
-            sim.reset(bench.formation.posture_rad(source), xy_m=spot, yaw_rad=yaw)
-        except WorldError:
+    placed = yaw
+    for _ in range(HEADING_TRIES if bench.headings > 1 else 1):
+        if not _settle_in(bench, spot, placed, source):
             rows[:, 3] = 1.0
             return rows
-    sim.step(bench.settle_steps)
+        missed = math.remainder(agent.pose().planar[2] - yaw, 2.0 * math.pi)
+        if abs(missed) <= math.pi / bench.headings:
+            break
+        placed -= missed  # the body turned while it settled (on a slope): place it turned back
     settled = sim.save_state()
     start = agent.pose().planar
     for k, target in enumerate(targets):
@@ -347,3 +348,23 @@ def _measure_at(
         rows[k] = (*relative_move(start, outcome.pose.planar), 0.0)
     sim.remove_state(settled)
     return rows
+
+
+def _settle_in(bench: _Bench, spot: tuple[float, float], yaw: float, source: np.ndarray) -> bool:
+    """Settle the body at ``spot`` facing ``yaw`` (rad), then in posture ``source``, settled
+    again; False where it cannot be placed there (inside an obstacle)."""
+    sim, agent = bench.sim, bench.agent
+    sim.restore_state(bench.pristine)
+    try:
+        sim.reset(bench.formation.posture_rad(bench.rest), xy_m=spot, yaw_rad=yaw)
+    except WorldError:
+        return False
+    sim.step(bench.settle_steps)
+    if agent.execute(source).failed:  # not reachable from rest: teleport into it instead
+        sim.restore_state(bench.pristine)
+        try:
+            sim.reset(bench.formation.posture_rad(source), xy_m=spot, yaw_rad=yaw)
+        except WorldError:
+            return False
+    sim.step(bench.settle_steps)
+    return True
