@@ -28,10 +28,6 @@ first, the greedy one last, so a greedy policy the learner keeps is predicted as
 replay went. A transition observed to fail in its context fails there (a gait that slips a
 little each cycle falls after a few cycles, in the same context as the cycles it survived);
 in any context, one observed to fail more often than not fails.
-
-Where the base table tells headings apart (on a slope), so do the observations: a move is
-kept under the sector of the compass the body faced when it began (a row of
-:class:`~qdsega.agent.world.Transitions`), and ``h`` is the row the body came from.
 """
 
 from __future__ import annotations
@@ -41,7 +37,7 @@ from dataclasses import replace
 import numpy as np
 
 from qdsega.agent.policy import Rollout
-from qdsega.agent.world import Paths, TransitionProvider, Transitions, heading_sector
+from qdsega.agent.world import Paths, TransitionProvider, Transitions
 from qdsega.task import relative_move
 
 _SUMS = 5  # dx (m), dy (m), dtheta (rad) (summed, or latest in context); moves; failures
@@ -52,18 +48,13 @@ class GroundedTransitions:
 
     Args:
         base: the table of measured transitions.
-        headings: sectors of the compass ``base`` tells apart (its tables' ``headings``).
     """
 
-    def __init__(self, *, base: TransitionProvider, headings: int = 1) -> None:
-        if headings < 1:
-            raise ValueError(f"headings must be at least 1, got {headings}")
+    def __init__(self, *, base: TransitionProvider) -> None:
         self.base = base
-        self.headings = headings
         self._plain: dict[bytes, np.ndarray] = {}  # i + j -> sums
         self._context: dict[bytes, dict[bytes, np.ndarray]] = {}  # h + i -> {j -> latest}
-        self._width = self.n_joints + (headings > 1)  # numbers in the key of a row
-        self._start = np.full(self._width, -1, dtype=np.int64).tobytes()  # h of a start
+        self._start = np.full(self.n_joints, -1, dtype=np.int64).tobytes()  # h of a start
         self._base_dx: dict[bytes, float] = {}  # i + j -> the base's forward move (m)
         # Remembered trials: node 0 is a trial's start; each node is one command's outcome.
         self._children: list[dict[bytes, int]] = [{}]  # node -> {target -> node}
@@ -90,29 +81,27 @@ class GroundedTransitions:
         sources = np.asarray(from_postures, dtype=np.int64)
         targets = np.asarray(to_postures, dtype=np.int64)
         base = self.base.transitions(sources, targets)
-        if base.headings != self.headings:
-            raise ValueError(f"the base tells {base.headings} headings apart, not {self.headings}")
         if not self._plain:
             return base
         keys = [t.tobytes() for t in targets]
-        row_keys = [self._row_key(s, k) for k in range(self.headings) for s in sources]
         gap = self.base_gap_m()
         unobserved = Transitions(
             dx=np.asarray(base.dx, dtype=np.float64) + confidence * gap,
             dy=base.dy,
             dtheta=base.dtheta,
             failed=base.failed,
-            headings=self.headings,
         )
         plain = _corrected(
-            unobserved, [{k: self._plain.get(r + k) for k in keys} for r in row_keys], True
+            unobserved,
+            [{k: self._plain.get(s.tobytes() + k) for k in keys} for s in sources],
+            True,
         )
-        context = np.full((len(row_keys) + 1, len(row_keys)), -1, dtype=np.int64)
+        context = np.full((len(sources) + 1, len(sources)), -1, dtype=np.int64)
         rows: list[dict[bytes, np.ndarray | None]] = []
         base_rows: list[int] = []
-        for h, previous in enumerate([*row_keys, self._start]):
-            for i, source in enumerate(row_keys):
-                seen = self._context.get(previous + source)
+        for h, previous in enumerate([*(s.tobytes() for s in sources), self._start]):
+            for i, source in enumerate(sources):
+                seen = self._context.get(previous + source.tobytes())
                 if seen is None or not any(k in seen for k in keys):
                     continue
                 context[h, i] = len(rows)
@@ -139,17 +128,7 @@ class GroundedTransitions:
             context=context,
             in_context=in_context,
             paths=paths,
-            headings=self.headings,
         )
-
-    def _row_key(self, posture: np.ndarray, sector: int) -> bytes:
-        """The key of the row of moves from ``posture`` facing heading sector ``sector``."""
-        key = np.asarray(posture, dtype=np.int64).tobytes()
-        return key + np.int64(sector).tobytes() if self.headings > 1 else key
-
-    def _row_key_at(self, posture: np.ndarray, theta: float) -> bytes:
-        """The key of the row of moves from ``posture`` facing ``theta`` (rad)."""
-        return self._row_key(posture, heading_sector(theta, self.headings))
 
     def _paths(self, keys: list[bytes]) -> Paths:
         """The remembered trials that command only postures among ``keys`` (target columns)
@@ -187,11 +166,9 @@ class GroundedTransitions:
             if sums[3] == 0:
                 continue
             if key not in self._base_dx:
-                levels = np.frombuffer(key, dtype=np.int64)
-                source, target = levels[: self.n_joints], levels[self._width :]
-                sector = int(levels[self.n_joints]) if self.headings > 1 else 0
+                source, target = np.frombuffer(key, dtype=np.int64).reshape(2, -1)
                 self._base_dx[key] = float(
-                    self.base.transitions(source[None], target[None]).dx[sector, 0]
+                    self.base.transitions(source[None], target[None]).dx[0, 0]
                 )
             gaps.append(sums[0] / sums[3] - self._base_dx[key])
         return float(np.sqrt(np.mean(np.square(gaps)))) if gaps else 0.0
@@ -208,11 +185,9 @@ class GroundedTransitions:
                 outcome = np.array([*move, 1.0, 0.0])
             else:  # the failed command
                 outcome = np.array([0.0, 0.0, 0.0, 0.0, 1.0])
-            source = self._row_key_at(reached[t], trial.poses[t][2])
+            source = reached[t].tobytes()
             self._plain.setdefault(source + target.tobytes(), np.zeros(_SUMS))[:] += outcome
-            previous = (
-                self._row_key_at(reached[t - 1], trial.poses[t - 1][2]) if t > 0 else self._start
-            )
+            previous = reached[t - 1].tobytes() if t > 0 else self._start
             key = (previous + source, target.tobytes())
             trial_sums.setdefault(key, np.zeros(_SUMS))[:] += outcome
         for (pair, target), sums in trial_sums.items():
@@ -255,8 +230,7 @@ class GroundedTransitions:
         a trial) and ``context_sums`` (c, 5): the latest trial's mean dx, dy, dtheta; all moves
         and failures; the remembered trials' nodes after the start, in the order they were
         made: ``path_parents`` (N,), ``path_targets`` (N, J) levels commanded,
-        ``path_moves`` (N, 4) dx (m), dy (m), dtheta (rad), failed. Where headings are told
-        apart, ``h`` and ``i`` each end with their heading sector (J + 1 numbers)."""
+        ``path_moves`` (N, 4) dx (m), dy (m), dtheta (rad), failed."""
         triples = {
             pair + target: sums
             for pair, seen in self._context.items()
@@ -264,10 +238,9 @@ class GroundedTransitions:
         }
         j = self.n_joints
         targets = [np.frombuffer(t, dtype=np.int64) for t in self._target[1:]]
-        w = self._width
         return {
-            **_arrays("plain", self._plain, w + j),
-            **_arrays("context", triples, 2 * w + j),
+            **_arrays("plain", self._plain, 2 * j),
+            **_arrays("context", triples, 3 * j),
             "path_parents": np.array(self._parent[1:], dtype=np.int64),
             "path_targets": np.array(targets, dtype=np.int64).reshape(-1, j),
             "path_moves": np.array(self._moves[1:], dtype=np.float64).reshape(-1, 4),
@@ -280,12 +253,11 @@ class GroundedTransitions:
             ValueError: the arrays do not fit this body.
         """
         j = self.n_joints
-        w = self._width
-        plain = _entries(state, "plain", w + j)
-        triples = _entries(state, "context", 2 * w + j)
+        plain = _entries(state, "plain", 2 * j)
+        triples = _entries(state, "context", 3 * j)
         self._plain = plain
         self._context = {}
-        width = 2 * w * 8  # bytes of h + i
+        width = 2 * j * 8  # bytes of h + i
         for key, sums in triples.items():
             self._context.setdefault(key[:width], {})[key[width:]] = sums
         parents, targets, moves = (state[k] for k in ("path_parents", "path_targets", "path_moves"))
@@ -316,7 +288,7 @@ def _corrected(
             failed[i, j] = failures > moves if summed else failures > 0
             if moves > 0:
                 dx[i, j], dy[i, j], dtheta[i, j] = sums[:3] / moves if summed else sums[:3]
-    return Transitions(dx=dx, dy=dy, dtheta=dtheta, failed=failed, headings=table.headings)
+    return Transitions(dx=dx, dy=dy, dtheta=dtheta, failed=failed)
 
 
 def _arrays(name: str, entries: dict[bytes, np.ndarray], width: int) -> dict[str, np.ndarray]:

@@ -10,8 +10,7 @@ and runs ``trial_steps`` commands or until the lower agent fails. Each step:
    (a fall has no next state);
 3. else move the robot by the table's body-frame displacement (the move of a remembered trial
    while the walk follows one since the trial's start, else the row for the posture the robot
-   came from where the table has one, in the sector of the compass it faces where the table
-   tells headings apart), reward eq. (17), and update eq. (1) with
+   came from where the table has one), reward eq. (17), and update eq. (1) with
    ``max Q(s', .)``; the step that ends a trial by its length bootstraps like any
    other (a time limit is not a terminal state).
 
@@ -34,7 +33,6 @@ from qdsega.agent.boltzmann import (
     live_actions,
     temperature,
 )
-from qdsega.agent.world import heading_sector
 from qdsega.task import (
     edge_directions,
     exterior_state,
@@ -155,7 +153,6 @@ def learn_on_table(
     path_dy: np.ndarray,
     path_dtheta: np.ndarray,
     path_failed: np.ndarray,
-    headings: int,
     next_interior: np.ndarray,
     light: np.ndarray,
     edges: np.ndarray,
@@ -175,17 +172,15 @@ def learn_on_table(
 
     Args:
         q: Q-table, shape (n_interior * n_exterior, A), updated in place.
-        dx, dy, dtheta, failed: the transition table, shape (R, A) (m, m, rad, bool): row
-            ``k * n_interior + i`` for moves from interior state ``i`` facing heading sector
-            ``k`` of ``headings`` (:class:`qdsega.agent.world.Transitions`).
-        context: ``context[h, i]``: the row of the ``context_*`` arrays for moves from row
-            ``i`` entered from row ``h`` (``h = R``: the trial's start), or -1 for row ``i``
-            of the plain table, shape (R + 1, R).
+        dx, dy, dtheta, failed: the transition table, shape (n_interior, A) (m, m, rad, bool).
+        context: ``context[h, i]``: the row of the ``context_*`` arrays for moves from interior
+            state ``i`` entered from ``h`` (``h = n_interior``: the trial's start), or -1 for
+            row ``i`` of the plain table, shape (n_interior + 1, n_interior)
+            (:class:`qdsega.agent.world.Transitions`).
         context_dx, context_dy, context_dtheta, context_failed: those rows, shape (R, A).
         path_child, path_dx, path_dy, path_dtheta, path_failed: remembered trials
             (:class:`qdsega.agent.world.Paths`): node reached by each action from each node,
             shape (N, A), node 0 a trial's start; the move into each node, shape (N,).
-        headings: sectors of the compass the table's rows tell apart (1: none).
         next_interior: interior state each action leads to, shape (A,).
         light: light position (x, y) (m).
         edges: exterior bin edges (rad), shape (n_exterior,).
@@ -202,8 +197,7 @@ def learn_on_table(
         The number of steps (commands) taken.
     """
     n_exterior = edges.shape[0]
-    n_rows = dx.shape[0]
-    n_interior = n_rows // headings
+    n_interior = dx.shape[0]
     scratch, weights = np.empty(q.shape[1]), np.empty(q.shape[1])
     bits = np.empty(q.shape[1], dtype=np.int64)
     # Per row: max Q, a bound on the max over the other actions (exact after a scan), valid
@@ -225,7 +219,7 @@ def learn_on_table(
         )
         x, y, theta, cos_theta, sin_theta = 0.0, 0.0, 0.0, 1.0, 0.0
         d = d_start
-        previous, interior, node = -1, 0, 0  # previous: the row of the last move made
+        previous, interior, node = -1, 0, 0
         exterior = exterior_state(x, y, theta, light_x, light_y, edges)
         fell[trial] = False
         for _ in range(trial_steps):
@@ -234,16 +228,15 @@ def learn_on_table(
             uses[a] += 1
             steps += 1
             old = q[s, a]
-            row = heading_sector(theta, headings) * n_interior + interior
             node = path_child[node, a] if node >= 0 else -1
             if node >= 0:
                 fails = path_failed[node]
                 mx, my, mt = path_dx[node], path_dy[node], path_dtheta[node]
             else:
-                r = context[previous if previous >= 0 else n_rows, row]
+                r = context[previous if previous >= 0 else n_interior, interior]
                 if r < 0:
-                    fails = failed[row, a]
-                    mx, my, mt = dx[row, a], dy[row, a], dtheta[row, a]
+                    fails = failed[interior, a]
+                    mx, my, mt = dx[interior, a], dy[interior, a], dtheta[interior, a]
                 else:
                     fails = context_failed[r, a]
                     mx, my, mt = context_dx[r, a], context_dy[r, a], context_dtheta[r, a]
@@ -256,7 +249,7 @@ def learn_on_table(
             theta += mt
             cos_theta, sin_theta = math.cos(theta), math.sin(theta)
             d_new = math.hypot(light_x - x, light_y - y)
-            previous, interior = row, next_interior[a]
+            previous, interior = interior, next_interior[a]
             exterior = exterior_state_ahead(
                 x, y, theta, cos_theta, sin_theta, light_x, light_y, edges, directions
             )

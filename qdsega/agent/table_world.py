@@ -19,16 +19,15 @@ class TableWorld:
 
     Args:
         space: the generation's actions and interior states.
-        table: outcomes of every action from every interior state (in every heading it tells
-            apart), shape (headings * n_interior, A).
+        table: outcomes of every action from every interior state, shape (n_interior, A).
         task: the rules.
     """
 
     def __init__(self, *, space: ExplorationSpace, table: Transitions, task: Task) -> None:
-        rows = table.headings * space.n_interior
-        if np.shape(table.dx) != (rows, space.n_actions):
+        if np.shape(table.dx) != (space.n_interior, space.n_actions):
             raise ValueError(
-                f"table {np.shape(table.dx)} does not fit the space ({rows}, {space.n_actions})"
+                f"table {np.shape(table.dx)} does not fit the space "
+                f"({space.n_interior}, {space.n_actions})"
             )
         self.space = space
         self.table = table
@@ -51,11 +50,12 @@ class TableWorld:
 
     def command(self, posture: np.ndarray) -> StepResult:
         a = self._action[np.asarray(posture, dtype=np.int64).tobytes()]
-        row = self.table.row_of(self._interior, self._pose[2])
-        dx, dy, dtheta, failed, self._node = self.table.move(self._node, self._previous, row, a)
+        dx, dy, dtheta, failed, self._node = self.table.move(
+            self._node, self._previous, self._interior, a
+        )
         self._pose, reward = self.task.move(self._pose, dx, dy, dtheta, failed)
         if not failed:
-            self._previous, self._interior = row, int(self.space.next_interior[a])
+            self._previous, self._interior = self._interior, int(self.space.next_interior[a])
         return StepResult(reward, self.task.exterior(self._pose), failed)
 
     def distance_covered(self) -> float:

@@ -5,9 +5,8 @@ fails. Two kinds of world:
 
 * A **transition table** (:class:`TransitionProvider`): the outcome of commanding posture ``j``
   from posture ``i`` does not depend on where the robot is, so it is a table of body-frame
-  moves ``(dx, dy, dtheta, failed)``, optionally refined by the heading (on a slope, where the
-  ground pulls a body differently facing uphill or across), by the posture ``h`` the robot
-  came from (a moving body carries its last move into the next) and by whole trials remembered
+  moves ``(dx, dy, dtheta, failed)``, optionally refined by the posture ``h`` the robot came
+  from (a moving body carries its last move into the next) and by whole trials remembered
   command by command (:class:`Paths`). The Minimal Simulation Model is one (analytic), a
   simulator measured once per transition is another. The compiled learning loop runs on it.
 * A **step-by-step world** (:class:`World`): anything else; the plain Python loop runs on it.
@@ -15,22 +14,10 @@ fails. Two kinds of world:
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 from typing import Protocol, runtime_checkable
 
 import numpy as np
-from numba import njit
-
-
-@njit(cache=True)
-def heading_sector(theta: float, headings: int) -> int:
-    """Which of ``headings`` equal sectors of the compass, the first centred on +x, heading
-    ``theta`` (rad) points into: the row block of a table measured at each sector's centre."""
-    if headings == 1:
-        return 0
-    turns = math.floor(theta * headings / (2.0 * math.pi) + 0.5)
-    return int(turns - headings * math.floor(turns / headings))
 
 
 @dataclass(frozen=True)
@@ -77,26 +64,19 @@ class Paths:
 class Transitions:
     """Body-frame outcome of commanding each ``to`` posture from each ``from`` posture.
 
-    A table of ``headings`` > 1 holds one block of rows per sector of the compass
-    (:func:`heading_sector`): row ``k * n + i`` holds the moves from ``from`` posture ``i``
-    made facing sector ``k``, for ``n`` postures; with one heading, row ``i`` is posture
-    ``i``. Rows are what ``context`` and :meth:`move` speak of (:meth:`row_of`).
-
     Attributes:
-        dx: forward displacement in the body frame at the start of the move, shape (R, m) (m),
-            ``R = headings * n``.
-        dy: leftward displacement in that frame, shape (R, m) (m).
-        dtheta: heading change, counter-clockwise, shape (R, m) (rad).
-        failed: the lower agent could not reach the posture (the robot fell), shape (R, m).
+        dx: forward displacement in the body frame at the start of the move, shape (n, m) (m).
+        dy: leftward displacement in that frame, shape (n, m) (m).
+        dtheta: heading change, counter-clockwise, shape (n, m) (rad).
+        failed: the lower agent could not reach the posture (the robot fell), shape (n, m).
         context: where the outcome also depends on the posture the robot just came from:
             ``context[h, i]`` is the row of ``in_context`` that holds the outcomes of the moves
-            from row ``i`` reached from row ``h`` (``h = R``: ``i`` is where the trial
-            started), or -1 where the plain row ``i`` holds; shape (R + 1, R), or None for
-            none.
+            from ``from`` posture ``i`` reached from ``from`` posture ``h`` (``h = n``: ``i``
+            is where the trial started), or -1 where the plain row ``i`` holds; shape
+            (n + 1, n), or None for none.
         in_context: those rows, shape (R, m) (a table of its own, without context).
         paths: remembered trials over these targets, which rule wherever a walk from the
             start of a trial follows one (``from`` row 0 is where trials start); None for none.
-        headings: sectors of the compass the table tells apart (1: none).
     """
 
     dx: np.ndarray
@@ -106,14 +86,11 @@ class Transitions:
     context: np.ndarray | None = None
     in_context: Transitions | None = None
     paths: Paths | None = None
-    headings: int = 1
 
     def __post_init__(self) -> None:
         shape = np.shape(self.dx)
         if len(shape) != 2:
             raise ValueError(f"transitions are (n, m) tables, got shape {shape}")
-        if self.headings < 1 or shape[0] % self.headings:
-            raise ValueError(f"{shape[0]} rows do not split into {self.headings} headings")
         for name in ("dy", "dtheta", "failed"):
             if np.shape(getattr(self, name)) != shape:
                 raise ValueError(f"{name} has shape {np.shape(getattr(self, name))}, not {shape}")
@@ -132,13 +109,9 @@ class Transitions:
         if self.paths is not None and np.shape(self.paths.child)[1] != shape[1]:
             raise ValueError(f"paths have {np.shape(self.paths.child)[1]} targets, not {shape[1]}")
 
-    def row_of(self, posture: int, theta: float) -> int:
-        """The row of the moves from ``from`` posture ``posture`` facing ``theta`` (rad)."""
-        return heading_sector(theta, self.headings) * (len(self.dx) // self.headings) + posture
-
     def row(self, h: int, i: int) -> tuple[Transitions, int]:
-        """The table and row that hold the moves from row ``i`` reached from row ``h`` (-1:
-        the trial has just started)."""
+        """The table and row that hold the moves from ``i`` reached from ``h`` (-1: the trial
+        has just started)."""
         if self.context is not None and self.in_context is not None:
             r = int(self.context[h if h >= 0 else len(self.dx), i])
             if r >= 0:
@@ -146,9 +119,9 @@ class Transitions:
         return self, i
 
     def move(self, node: int, h: int, i: int, a: int) -> tuple[float, float, float, bool, int]:
-        """Commanding target ``a`` from row ``i`` (reached from row ``h``) at path node ``node``
-        (0 at a trial's start, -1 off every remembered trial): dx (m), dy (m), dtheta (rad),
-        failed, and the path node it leads to. The compiled loop applies the same rule."""
+        """Commanding target ``a`` from ``i`` (reached from ``h``) at path node ``node`` (0 at
+        a trial's start, -1 off every remembered trial): dx (m), dy (m), dtheta (rad), failed,
+        and the path node it leads to. The compiled loop applies the same rule."""
         paths = self.paths or Paths.none(np.shape(self.dx)[1])
         k = int(paths.child[node, a]) if node >= 0 else -1
         if k >= 0:
@@ -157,10 +130,10 @@ class Transitions:
         t, r = self.row(h, i)
         return float(t.dx[r, a]), float(t.dy[r, a]), float(t.dtheta[r, a]), bool(t.failed[r, a]), -1
 
-    def compiled(self) -> tuple[np.ndarray | int, ...]:
-        """The arrays the compiled loop takes: dx, dy, dtheta, failed (R, m); context
-        (R + 1, R) (all -1 without context); the in-context rows' dx, dy, dtheta, failed
-        (C, m); the paths' child (N, m), dx, dy, dtheta, failed (N,); and :attr:`headings`."""
+    def compiled(self) -> tuple[np.ndarray, ...]:
+        """The arrays the compiled loop takes: dx, dy, dtheta, failed (n, m); context
+        (n + 1, n) (all -1 without context); the in-context rows' dx, dy, dtheta, failed
+        (R, m); and the paths' child (N, m), dx, dy, dtheta, failed (N,)."""
         n, m = np.shape(self.dx)
         plain = tuple(
             np.ascontiguousarray(a, dtype=np.float64) for a in (self.dx, self.dy, self.dtheta)
@@ -178,15 +151,14 @@ class Transitions:
         if self.context is None or self.in_context is None:
             empty = np.zeros((0, m))
             return (*plain, failed, np.full((n + 1, n), -1, dtype=np.int64), empty, empty, empty,
-                    np.zeros((0, m), dtype=np.bool_), *walk, self.headings)  # fmt: skip
+                    np.zeros((0, m), dtype=np.bool_), *walk)  # fmt: skip
         inner = self.in_context.compiled()
         return (*plain, failed, np.ascontiguousarray(self.context, dtype=np.int64), *inner[:4],
-                *walk, self.headings)  # fmt: skip
+                *walk)  # fmt: skip
 
 
 class TransitionProvider(Protocol):
-    """A world whose moves depend only on the posture pair, and on a slope on the heading (see
-    the module docstring)."""
+    """A world whose moves depend only on the posture pair (see the module docstring)."""
 
     @property
     def n_joints(self) -> int:
@@ -198,8 +170,7 @@ class TransitionProvider(Protocol):
         ...
 
     def transitions(self, from_postures: np.ndarray, to_postures: np.ndarray) -> Transitions:
-        """Outcome of commanding each row of ``to_postures`` (m, J) from each of (n, J), in
-        every heading the table tells apart."""
+        """Outcome of commanding each row of ``to_postures`` (m, J) from each of (n, J)."""
         ...
 
 

@@ -23,7 +23,7 @@ import numpy as np
 from qdsega.bench.curve import Curve
 from qdsega.bench.tasks import LEARNING_SIM, BenchTask
 from qdsega.locomotion.table_env import TableLocomotionEnv
-from qdsega.training.sims import memo_headings, memo_spots
+from qdsega.training.sims import memo_spots
 
 ENVS = {"msm": 16, "pybullet": 1}
 """Environments PPO steps side by side per simulator: in the MSM 16, so that each policy call
@@ -64,7 +64,6 @@ def ppo_curve(task: BenchTask, seed: int) -> Curve:
             msm=config.msm,
             world=world,
             spots=memo_spots(config, world),
-            headings=memo_headings(config, world),
         )
         for _ in range(ENVS[task.sim])
     ]

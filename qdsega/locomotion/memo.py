@@ -15,14 +15,6 @@ mean move over them, and the move fails where it failed at any of them, for a tr
 that ground. So the table holds what the body can expect over the ground ahead, not the move at
 the origin alone.
 
-On a slope a move depends on which way the body faces: a snake facing uphill slides back along
-its body, one lying across the slope barely slides. There each move is measured facing each of
-``headings`` sectors of the compass and kept per sector (:class:`~qdsega.agent.world.Transitions`
-rows), so a walk through the table slides as the body would where it faces; a body-frame slide
-measured facing uphill would otherwise carry a body turned downhill up the hill. A body that
-turns while it settles on the slope is placed again, turned back by as much, so that it starts
-facing its sector.
-
 Missing transitions are filled on demand, grouped by start posture (one settle, a snapshot,
 then every target from that snapshot) and spread over worker processes. Each worker builds the
 world once; every measurement restores a snapshot, so results do not depend on which worker
@@ -31,7 +23,6 @@ made them or in which order.
 
 from __future__ import annotations
 
-import math
 from collections.abc import Iterator
 from pathlib import Path
 
@@ -54,10 +45,6 @@ PROGRESS_DELAY_S = 5.0
 batches of a training run stay quiet between its per-generation lines."""
 
 _FIELDS = 4  # dx, dy, dtheta, failed
-
-HEADING_TRIES = 4
-"""Where headings are told apart, how often a start is placed again, turned back by what the
-body turned while it settled, until it faces its sector (the last try stands)."""
 
 SPOT_SPACING_M = 0.25
 """How far apart the spots a move is measured from lie along the way to the light (m)."""
@@ -89,10 +76,8 @@ class MeasuredTransitions:
         progress: makes the line that shows a batch's transitions measured of all, for
             batches that take longer than ``PROGRESS_DELAY_S`` (None: silent).
         world: the ground the moves are measured on (default flat).
-        spots: where each move is measured from a settled start, as (x, y) (m); default the
-            origin alone.
-        headings: sectors of the compass each move is measured facing (the centre of each;
-            the first +x) and kept apart (1: facing +x alone).
+        spots: where each move is measured from a settled start heading +x, as (x, y) (m);
+            default the origin alone.
     """
 
     def __init__(
@@ -107,7 +92,6 @@ class MeasuredTransitions:
         progress: ProgressFactory | None = None,
         world: World | None = None,
         spots: tuple[tuple[float, float], ...] = ((0.0, 0.0),),
-        headings: int = 1,
     ) -> None:
         if workers < 1:
             raise ValueError(f"workers must be at least 1, got {workers}")
@@ -122,9 +106,6 @@ class MeasuredTransitions:
         if not spots:
             raise ValueError("spots must hold at least one place")
         self.spots = spots
-        if headings < 1:
-            raise ValueError(f"headings must be at least 1, got {headings}")
-        self.headings = headings
         self._start = np.array(start_levels or formation.rest_levels(), dtype=np.int64)
         self._table: dict[bytes, np.ndarray] = {}
         self._pool: Pool | None = None
@@ -143,22 +124,18 @@ class MeasuredTransitions:
         return len(self._table)
 
     def transitions(self, from_postures: np.ndarray, to_postures: np.ndarray) -> Transitions:
-        """Outcomes (headings * n, m) of commanding each of ``to_postures`` (m, J) from each of
-        (n, J), a block of rows per heading."""
+        """Outcomes (n, m) of commanding each of ``to_postures`` (m, J) from each of (n, J)."""
         sources = np.asarray(from_postures, dtype=np.int64)
         targets = np.asarray(to_postures, dtype=np.int64)
         self._fill(sources, targets)
-        n, m = len(sources), len(targets)
         values = np.array(
             [[self._table[_key(i, j)] for j in targets] for i in sources], dtype=np.float64
-        ).reshape(n, m, self.headings, _FIELDS)
-        values = values.transpose(2, 0, 1, 3).reshape(self.headings * n, m, _FIELDS)
+        ).reshape(len(sources), len(targets), _FIELDS)
         return Transitions(
             dx=values[..., 0],
             dy=values[..., 1],
             dtheta=values[..., 2],
             failed=values[..., 3] > 0.5,
-            headings=self.headings,
         )
 
     def save(self, file: Path) -> None:
@@ -170,7 +147,7 @@ class MeasuredTransitions:
         pairs = np.array([np.frombuffer(k, dtype=np.int64) for k in keys]).reshape(
             len(keys), 2 * self.n_joints
         )
-        values = np.array([self._table[k] for k in keys]).reshape(len(keys), self._width)
+        values = np.array([self._table[k] for k in keys]).reshape(len(keys), _FIELDS)
         with replaced_atomically(file) as partial:
             np.savez_compressed(partial, pairs=pairs, values=values)
         self._stored = (file, len(self._table))
@@ -179,20 +156,12 @@ class MeasuredTransitions:
         """Add the transitions stored in ``file`` (written by :meth:`save`)."""
         with np.load(file) as data:
             pairs, values = data["pairs"], data["values"]
-        if pairs.shape[1:] != (2 * self.n_joints,) or values.shape[1:] != (self._width,):
-            raise ValueError(
-                f"{file} does not hold transitions of {self.formation.name} in "
-                f"{self.headings} heading(s)"
-            )
+        if pairs.shape[1:] != (2 * self.n_joints,) or values.shape[1:] != (_FIELDS,):
+            raise ValueError(f"{file} does not hold transitions of {self.formation.name}")
         for pair, value in zip(pairs, values, strict=True):
             self._table[pair.astype(np.int64).tobytes()] = value
         if len(self._table) == len(pairs):  # the table is exactly the file's
             self._stored = (file, len(self._table))
-
-    @property
-    def _width(self) -> int:
-        """Numbers kept per transition: dx, dy, dtheta, failed in each heading."""
-        return self.headings * _FIELDS
 
     def close(self) -> None:
         if self._pool is not None:
@@ -207,14 +176,7 @@ class MeasuredTransitions:
                 jobs.append((source, np.array(missing)))
         if not jobs:
             return
-        args = (
-            self.formation,
-            self.lower_agent,
-            self.physics,
-            self.world,
-            self.spots,
-            self.headings,
-        )
+        args = (self.formation, self.lower_agent, self.physics, self.world, self.spots)
         results: Iterator[np.ndarray]
         if self.workers == 1 and self.ray is None:
             _init_worker(*args)
@@ -257,14 +219,12 @@ class _Bench:
         physics: PhysicsSettings,
         world: World,
         spots: tuple[tuple[float, float], ...],
-        headings: int,
     ) -> None:
         self.formation = formation
         self.lower_agent = lower_agent
         self.physics = physics
         self.world = world
         self.spots = spots
-        self.headings = headings
         self.sim = BulletSimulation(robot=assemble(formation), settings=physics, world=world)
         self.agent = LowerAgent(sim=self.sim, config=lower_agent)
         self.pristine = self.sim.save_state()
@@ -281,7 +241,6 @@ def _init_worker(
     physics: PhysicsSettings,
     world: World,
     spots: tuple[tuple[float, float], ...],
-    headings: int,
 ) -> None:
     global _bench
     if (
@@ -291,52 +250,55 @@ def _init_worker(
         or _bench.physics != physics
         or _bench.world != world
         or _bench.spots != spots
-        or _bench.headings != headings
     ):
         if _bench is not None:
             _bench.sim.close()
-        _bench = _Bench(formation, lower_agent, physics, world, spots, headings)
+        _bench = _Bench(formation, lower_agent, physics, world, spots)
 
 
 def _measure_from(source: np.ndarray, targets: np.ndarray) -> np.ndarray:
-    """Rows for ``source -> target``, shape (m, headings * 4): in each heading, (dx m, dy m,
-    dtheta rad, failed 0/1), the mean move over the spots; failed where it failed at any spot,
-    so a move that failed at one spot is not measured at the next."""
+    """Rows (dx m, dy m, dtheta rad, failed 0/1) for ``source -> target``, shape (m, 4): the
+    mean move over the spots; failed where it failed at any spot, so a move that failed at one
+    spot is not measured at the next."""
     bench = _bench
     assert bench is not None, "worker not initialised"
-    rows = np.zeros((len(targets), bench.headings, _FIELDS))
-    for k in range(bench.headings):
-        yaw = 2.0 * np.pi * k / bench.headings
-        failed = np.zeros(len(targets), dtype=bool)
-        moved = np.zeros((len(targets), 3))
-        for spot in bench.spots:
-            alive = np.flatnonzero(~failed)
-            if alive.size == 0:
-                break
-            each = _measure_at(bench, spot, yaw, source, targets[alive])
-            moved[alive] += each[:, :3]
-            failed[alive[each[:, 3] > 0.5]] = True
-        rows[failed, k, 3] = 1.0
-        rows[~failed, k, :3] = moved[~failed] / len(bench.spots)
-    return rows.reshape(len(targets), bench.headings * _FIELDS)
+    failed = np.zeros(len(targets), dtype=bool)
+    moved = np.zeros((len(targets), 3))
+    for spot in bench.spots:
+        alive = np.flatnonzero(~failed)
+        if alive.size == 0:
+            break
+        each = _measure_at(bench, spot, source, targets[alive])
+        moved[alive] += each[:, :3]
+        failed[alive[each[:, 3] > 0.5]] = True
+    rows = np.zeros((len(targets), _FIELDS))
+    rows[failed, 3] = 1.0
+    rows[~failed, :3] = moved[~failed] / len(bench.spots)
+    return rows
 
 
 def _measure_at(
-    bench: _Bench, spot: tuple[float, float], yaw: float, source: np.ndarray, targets: np.ndarray
+    bench: _Bench, spot: tuple[float, float], source: np.ndarray, targets: np.ndarray
 ) -> np.ndarray:
-    """The rows of :func:`_measure_from` from a settled start at ``spot`` facing ``yaw``
-    (rad); every move fails where the body cannot be placed there (inside an obstacle)."""
+    """The rows of :func:`_measure_from` from a settled start at ``spot``; every move fails
+    where the body cannot be placed there (inside an obstacle)."""
     sim, agent = bench.sim, bench.agent
     rows = np.zeros((len(targets), _FIELDS))
-    placed = yaw
-    for _ in range(HEADING_TRIES if bench.headings > 1 else 1):
-        if not _settle_in(bench, spot, placed, source):
+    sim.restore_state(bench.pristine)
+    try:
+        sim.reset(bench.formation.posture_rad(bench.rest), xy_m=spot)
+    except WorldError:
+        rows[:, 3] = 1.0
+        return rows
+    sim.step(bench.settle_steps)
+    if agent.execute(source).failed:  # not reachable from rest: teleport into it instead
+        sim.restore_state(bench.pristine)
+        try:
+            sim.reset(bench.formation.posture_rad(source), xy_m=spot)
+        except WorldError:
             rows[:, 3] = 1.0
             return rows
-        missed = math.remainder(agent.pose().planar[2] - yaw, 2.0 * math.pi)
-        if abs(missed) <= math.pi / bench.headings:
-            break
-        placed -= missed  # the body turned while it settled (on a slope): place it turned back
+    sim.step(bench.settle_steps)
     settled = sim.save_state()
     start = agent.pose().planar
     for k, target in enumerate(targets):
@@ -348,23 +310,3 @@ def _measure_at(
         rows[k] = (*relative_move(start, outcome.pose.planar), 0.0)
     sim.remove_state(settled)
     return rows
-
-
-def _settle_in(bench: _Bench, spot: tuple[float, float], yaw: float, source: np.ndarray) -> bool:
-    """Settle the body at ``spot`` facing ``yaw`` (rad), then in posture ``source``, settled
-    again; False where it cannot be placed there (inside an obstacle)."""
-    sim, agent = bench.sim, bench.agent
-    sim.restore_state(bench.pristine)
-    try:
-        sim.reset(bench.formation.posture_rad(bench.rest), xy_m=spot, yaw_rad=yaw)
-    except WorldError:
-        return False
-    sim.step(bench.settle_steps)
-    if agent.execute(source).failed:  # not reachable from rest: teleport into it instead
-        sim.restore_state(bench.pristine)
-        try:
-            sim.reset(bench.formation.posture_rad(source), xy_m=spot, yaw_rad=yaw)
-        except WorldError:
-            return False
-    sim.step(bench.settle_steps)
-    return True

@@ -10,8 +10,7 @@ the table is measured on first use, in this process). So a learner other than QD
 runs at table speed in the same world QDSEGA learns in. The memo world here is the plain
 table, keyed by the posture pair alone, without the corrections a training run's grounding adds;
 on ground other than the flat plane (``world``) each move is measured from ``spots`` places
-along the way to the light, and on a slope facing ``headings`` ways, as a training run's table
-is.
+along the way to the light, as a training run's table is.
 
 Registered with Gymnasium as ``qdsega/TableLocomotion-v0`` when :mod:`qdsega` is imported::
 
@@ -47,8 +46,6 @@ class TableLocomotionEnv(gym.Env[np.ndarray, np.ndarray]):
             no other); its light, if it has one, replaces the formation's.
         spots: places along the way to the light each memo move is measured from, its mean
             kept (:func:`qdsega.locomotion.memo.spots_toward`).
-        headings: sectors of the compass each memo move is measured facing, each kept (more
-            than one on a slope).
     """
 
     metadata: dict[str, Any] = {"render_modes": []}  # noqa: RUF012 - Gymnasium's
@@ -62,7 +59,6 @@ class TableLocomotionEnv(gym.Env[np.ndarray, np.ndarray]):
         msm: MSMParameters | None = None,
         world: World | None = None,
         spots: int = 1,
-        headings: int = 1,
     ) -> None:
         if sim not in SIMS:
             raise ValueError(f"sim must be one of {', '.join(SIMS)}, got {sim!r}")
@@ -74,7 +70,7 @@ class TableLocomotionEnv(gym.Env[np.ndarray, np.ndarray]):
         formation = world.lights(formation)
         self.formation = formation
         self.task = Task(config=task or TaskConfig(), light_xy=formation.light.position_m)
-        self.provider = _provider(formation, sim, msm or MSMParameters(), world, spots, headings)
+        self.provider = _provider(formation, sim, msm or MSMParameters(), world, spots)
         levels = [len(joint.levels_rad) for joint in formation.joints]
         self.action_space = gym.spaces.MultiDiscrete(levels)
         self.observation_space = gym.spaces.MultiDiscrete([*levels, self.task.n_exterior])
@@ -96,12 +92,11 @@ class TableLocomotionEnv(gym.Env[np.ndarray, np.ndarray]):
         if not self.action_space.contains(levels):
             raise ValueError(f"action {action!r} is not in {self.action_space}")
         move = self.provider.transitions(self._posture[None, :], levels[None, :])
-        row = move.row_of(0, self._pose[2])
         self._steps += 1
         self._posture = levels.copy()
-        failed = bool(move.failed[row, 0])
+        failed = bool(move.failed[0, 0])
         self._pose, reward = self.task.move(
-            self._pose, move.dx[row, 0], move.dy[row, 0], move.dtheta[row, 0], failed
+            self._pose, move.dx[0, 0], move.dy[0, 0], move.dtheta[0, 0], failed
         )
         truncated = not failed and self._steps >= self.task.trial_steps
         return self._observation(), float(reward), failed, truncated, self._info()
@@ -129,7 +124,7 @@ class TableLocomotionEnv(gym.Env[np.ndarray, np.ndarray]):
 
 
 def _provider(
-    formation: Formation, sim: str, msm: MSMParameters, world: World, spots: int, headings: int
+    formation: Formation, sim: str, msm: MSMParameters, world: World, spots: int
 ) -> TransitionProvider:
     if sim == "msm":
         return MinimalSimulationModel(legs=LegLayout.from_formation(formation), params=msm)
@@ -142,5 +137,4 @@ def _provider(
         workers=1,
         world=world,
         spots=spots_toward(formation.light.position_m, spots),
-        headings=headings,
     )

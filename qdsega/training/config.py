@@ -91,12 +91,9 @@ class TrainingConfig:
             docs/algorithm.md).
         memo_spots: memo mode: how many places along the way to the light each move is
             measured from, the table keeping their mean move
-            (:mod:`qdsega.locomotion.memo`); None: 1 (the origin) on a plane, level or tilted
-            (:attr:`qdsega.description.World.is_plane`), else
+            (:mod:`qdsega.locomotion.memo`); None: 1 (the origin) where the world is uniform
+            (:attr:`qdsega.description.World.is_uniform`), else
             :data:`qdsega.training.sims.VARIED_GROUND_SPOTS`.
-        memo_headings: memo mode: how many sectors of the compass each move is measured
-            facing, the table keeping each; None: 1 on level ground, else
-            :data:`qdsega.training.sims.SLOPE_HEADINGS`.
     """
 
     preset: str = DEFAULT_PRESET
@@ -116,7 +113,6 @@ class TrainingConfig:
     local_search: int = 10
     phase_moves: float = 0.0
     memo_spots: int | None = None
-    memo_headings: int | None = None
 
     def __post_init__(self) -> None:
         if self.workers < 1:
@@ -129,8 +125,6 @@ class TrainingConfig:
             raise ValueError(f"phase_moves must be in [0, 1], got {self.phase_moves}")
         if self.memo_spots is not None and self.memo_spots < 1:
             raise ValueError(f"memo_spots must be at least 1, got {self.memo_spots}")
-        if self.memo_headings is not None and self.memo_headings < 1:
-            raise ValueError(f"memo_headings must be at least 1, got {self.memo_headings}")
         if not (self.optimism >= 0 and math.isfinite(self.optimism)):
             raise ValueError(f"optimism must not be negative, got {self.optimism}")
 

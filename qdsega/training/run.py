@@ -46,7 +46,6 @@ from qdsega.training.sims import (
     build_sim,
     check_sim,
     leg_states,
-    memo_headings,
     memo_spots,
 )
 
@@ -499,7 +498,6 @@ def _finish(
         **read_formation_record(folder.path).summary(),
         "world": sim.world.name,
         "memo_spots": memo_spots(config, sim.world) if config.sim == "memo" else None,
-        "memo_headings": memo_headings(config, sim.world) if config.sim == "memo" else None,
         "world_sha256": world_sha256(folder.path),
         "sim": config.sim,
         "preset": config.preset,

@@ -43,8 +43,6 @@ _NUMBERS = re.compile(r" by -?[\d.]+ deg| \(tilt -?[\d.]+ deg\)")
 """The measured part of a failure message, left out where failures are counted by kind."""
 VARIED_GROUND_SPOTS = 6
 """Places a move is measured from in memo mode where the ground varies (1.25 m of the way)."""
-SLOPE_HEADINGS = 8
-"""Sectors of the compass a move is measured facing in memo mode on a slope (45 deg each)."""
 _SEARCH_STREAM = 1_000_000
 """Local-search trials of generation ``g`` draw from a generator seeded ``(seed, g, this)``,
 a stream no exploring trial uses."""
@@ -345,13 +343,10 @@ def build_sim(
         progress=measuring,
         world=rules.world,
         spots=spots_toward(tuple(task.light), memo_spots(config, rules.world)),
-        headings=memo_headings(config, rules.world),
     )
     if (run / RunFolder.TRANSITIONS).is_file():
         memo.load(run / RunFolder.TRANSITIONS)
-    grounded = (
-        GroundedTransitions(base=memo, headings=memo.headings) if config.ground_table else None
-    )
+    grounded = GroundedTransitions(base=memo) if config.ground_table else None
     provider = grounded if grounded is not None else memo
     learning = config.agent.learning
     last = temperature(
@@ -381,14 +376,7 @@ def memo_spots(config: TrainingConfig, world: World) -> int:
     """How many places memo mode measures each move from in ``world``."""
     if config.memo_spots is not None:
         return config.memo_spots
-    return 1 if world.is_plane else VARIED_GROUND_SPOTS
-
-
-def memo_headings(config: TrainingConfig, world: World) -> int:
-    """How many sectors of the compass memo mode measures each move facing in ``world``."""
-    if config.memo_headings is not None:
-        return config.memo_headings
-    return 1 if world.slope_rad == 0 else SLOPE_HEADINGS
+    return 1 if world.is_uniform else VARIED_GROUND_SPOTS
 
 
 def leg_states(layout: LegLayout | None, postures: np.ndarray) -> np.ndarray:

@@ -13,7 +13,7 @@ from qdsega.agent.genetic import random_population
 from qdsega.agent.qlearning import learn_on_table
 from qdsega.agent.space import ExplorationSpace
 from qdsega.agent.table_world import TableWorld
-from qdsega.agent.world import Paths, Transitions, heading_sector
+from qdsega.agent.world import Paths, Transitions
 from qdsega.agent.world_loop import learn_on_world
 from qdsega.baselines.classic_gaits import leg_gait
 from qdsega.description import load_formation
@@ -122,20 +122,13 @@ def _with_context(table: Transitions, gen: np.random.Generator) -> Transitions:
         dtheta=gen.uniform(-0.2, 0.2, (rows, m)),
         failed=gen.random((rows, m)) < 0.1,
     )
-    return replace(table, context=context, in_context=in_context)
-
-
-def _with_headings(table: Transitions, gen: np.random.Generator, headings: int) -> Transitions:
-    """``table`` told apart in ``headings`` sectors: each sector's block of rows its own
-    random variation, with turns large enough that a walk faces every sector."""
-    blocks = [table.dx + gen.uniform(-0.05, 0.05, table.dx.shape) for _ in range(headings)]
-    turns = [gen.uniform(-1.5, 1.5, table.dx.shape) for _ in range(headings)]
     return Transitions(
-        dx=np.vstack(blocks),
-        dy=np.vstack([table.dy] * headings),
-        dtheta=np.vstack(turns),
-        failed=np.vstack([table.failed] * headings),
-        headings=headings,
+        dx=table.dx,
+        dy=table.dy,
+        dtheta=table.dtheta,
+        failed=table.failed,
+        context=context,
+        in_context=in_context,
     )
 
 
@@ -158,7 +151,7 @@ def _with_paths(table: Transitions, gen: np.random.Generator) -> Transitions:
     return replace(table, paths=paths)
 
 
-@pytest.mark.parametrize("extra", ["none", "context", "paths", "both", "headings"])
+@pytest.mark.parametrize("extra", ["none", "context", "paths", "both"])
 def test_python_world_loop_matches_the_compiled_table_loop(extra):
     formation = load_formation(ASSEMBLIES_DIR / "quadruped.yaml")
     model = MinimalSimulationModel(legs=LegLayout.from_formation(formation), params=MSMParameters())
@@ -167,11 +160,9 @@ def test_python_world_loop_matches_the_compiled_table_loop(extra):
     population = random_population(np.full(8, 2), 12, np.random.default_rng(1))
     space = ExplorationSpace.from_population(population, model.start_posture())
     table = model.transitions(space.postures, space.actions)
-    if extra == "headings":
-        table = _with_headings(table, np.random.default_rng(4), 4)
-    if extra in ("context", "both", "headings"):
+    if extra in ("context", "both"):
         table = _with_context(table, np.random.default_rng(2))
-    if extra in ("paths", "both", "headings"):
+    if extra in ("paths", "both"):
         table = _with_paths(table, np.random.default_rng(3))
     schedule = np.array(
         [learning.temperature_scale, learning.temperature_rate, learning.temperature_offset]
@@ -186,37 +177,3 @@ def test_python_world_loop_matches_the_compiled_table_loop(extra):
     assert steps_a == steps_b > 0
     for a, b in zip(arrays_a, arrays_b, strict=True):
         np.testing.assert_allclose(a, b, rtol=1e-12, atol=1e-12)
-
-
-def test_a_walk_moves_by_the_row_of_the_sector_it_faces():
-    """Two sectors: facing +x a step goes 0.1 m ahead and turns round; facing -x it goes 0.1 m
-    back in the body frame, which is +x again. Both loops walk 0.2 m toward the light; a
-    table that told no headings apart would come back to the start."""
-    space = ExplorationSpace.from_population(np.array([[1]]), np.array([0]))
-    n, m = space.n_interior, space.n_actions
-    table = Transitions(
-        dx=np.vstack([np.full((n, m), 0.1), np.full((n, m), -0.1)]),
-        dy=np.zeros((2 * n, m)),
-        dtheta=np.full((2 * n, m), np.pi),
-        failed=np.zeros((2 * n, m), dtype=np.bool_),
-        headings=2,
-    )
-    task = Task(config=TaskConfig(trial_steps=2), light_xy=(50.0, 0.0))
-    for world in (table, TableWorld(space=space, table=table, task=task)):
-        q = np.zeros((n * task.n_exterior, m))
-        _, _, distances, fell = _learn(
-            world, q, space, task, 1, GREEDY, 0.5, 0.9, np.random.default_rng(0)
-        )
-        assert not fell[0] and distances[0] == pytest.approx(0.2)
-
-
-@pytest.mark.parametrize(
-    ("theta", "headings", "sector"),
-    [(0.0, 1, 0), (3.0, 1, 0), (0.3, 8, 0), (0.5, 8, 1), (-0.5, 8, 7), (np.pi, 4, 2),
-     (2 * np.pi + 0.1, 4, 0), (-np.pi / 2, 4, 3)],
-)  # fmt: skip
-def test_heading_sectors_by_hand(theta, headings, sector):
-    assert heading_sector(theta, headings) == sector
-    with pytest.raises(ValueError, match="do not split into 3 headings"):
-        Transitions(dx=np.zeros((4, 1)), dy=np.zeros((4, 1)), dtheta=np.zeros((4, 1)),
-                    failed=np.zeros((4, 1), dtype=bool), headings=3)  # fmt: skip

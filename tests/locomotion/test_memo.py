@@ -148,26 +148,3 @@ def test_spots_lie_toward_the_light():
     assert x == pytest.approx(0.0, abs=1e-12) and y == pytest.approx(-SPOT_SPACING_M)
     with pytest.raises(ValueError, match="at least 1"):
         spots_toward((1.0, 0.0), 0)
-
-
-def test_on_a_slope_each_heading_keeps_its_own_move(snake5):
-    """A straight snake slides down the slope along its body: back facing uphill, ahead facing
-    downhill. Each sector's row holds the move made facing it, and the first sector's is the
-    move of a table that tells no headings apart."""
-    slope = load_world("worlds/slope.yaml")  # rising toward +x
-    rest = np.array([snake5.rest_levels()])
-
-    def measure(headings):
-        memo = MeasuredTransitions(
-            formation=snake5, lower_agent=LowerAgentConfig(), workers=1, world=slope,
-            headings=headings,
-        )  # fmt: skip
-        return memo.transitions(rest, rest)
-
-    one, four = measure(1), measure(4)
-    assert four.dx.shape == (4, 1) and four.headings == 4
-    assert four.dx[0, 0] == one.dx[0, 0] and four.dy[0, 0] == one.dy[0, 0]
-    uphill, downhill = four.dx[0, 0], four.dx[2, 0]
-    assert uphill < -0.1 and downhill == pytest.approx(-uphill, rel=0.05)
-    with pytest.raises(ValueError, match="headings must be at least 1"):
-        MeasuredTransitions(formation=snake5, lower_agent=LowerAgentConfig(), headings=0)
