@@ -143,12 +143,16 @@ class World:
         return self == plain.with_light(self.light)
 
     @property
+    def is_plane(self) -> bool:
+        """A plane, level or tilted, with nothing on it: a move there does not depend on where
+        the body stands (on a slope it may depend on which way the body faces)."""
+        return self == replace(self, rough=None, stairs=None, boxes=(), corridor=None, ceiling=None)
+
+    @property
     def is_uniform(self) -> bool:
-        """A level plane with nothing on it, whatever its friction: a move there does not
-        depend on where the body stands."""
-        return self.slope_rad == 0 and self == replace(
-            self, rough=None, stairs=None, boxes=(), corridor=None, ceiling=None
-        )
+        """A level plane with nothing on it, whatever its friction: a move there depends on
+        neither where the body stands nor which way it faces."""
+        return self.slope_rad == 0 and self.is_plane
 
     def lights(self, formation: Formation) -> Formation:
         """``formation`` with this world's light, where the world has one."""

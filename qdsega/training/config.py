@@ -91,8 +91,8 @@ class TrainingConfig:
             docs/algorithm.md).
         memo_spots: memo mode: how many places along the way to the light each move is
             measured from, the table keeping their mean move
-            (:mod:`qdsega.locomotion.memo`); None: 1 (the origin) where the world is uniform
-            (:attr:`qdsega.description.World.is_uniform`), else
+            (:mod:`qdsega.locomotion.memo`); None: 1 (the origin) on a plane, level or tilted
+            (:attr:`qdsega.description.World.is_plane`), else
             :data:`qdsega.training.sims.VARIED_GROUND_SPOTS`.
     """
 

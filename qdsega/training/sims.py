@@ -376,7 +376,7 @@ def memo_spots(config: TrainingConfig, world: World) -> int:
     """How many places memo mode measures each move from in ``world``."""
     if config.memo_spots is not None:
         return config.memo_spots
-    return 1 if world.is_uniform else VARIED_GROUND_SPOTS
+    return 1 if world.is_plane else VARIED_GROUND_SPOTS
 
 
 def leg_states(layout: LegLayout | None, postures: np.ndarray) -> np.ndarray:

@@ -126,8 +126,16 @@ def test_an_unknown_world_name_lists_the_shipped_ones():
 
 
 @pytest.mark.parametrize(
-    ("name", "uniform"),
-    [("flat", True), ("ice", True), ("slope", False), ("stairs", False), ("tunnel", False)],
+    ("name", "uniform", "plane"),
+    [
+        ("flat", True, True),
+        ("ice", True, True),
+        ("slope", False, True),
+        ("stairs", False, False),
+        ("tunnel", False, False),
+        ("rubble", False, False),
+    ],
 )
-def test_a_world_is_uniform_when_nothing_but_its_grip_differs_from_the_plane(name, uniform):
-    assert load_world(resolve_world(name)).is_uniform is uniform
+def test_a_world_is_uniform_when_nothing_but_its_grip_differs_from_the_plane(name, uniform, plane):
+    world = load_world(resolve_world(name))
+    assert world.is_uniform is uniform and world.is_plane is plane
