@@ -4,8 +4,10 @@ in exact physics, built in batches and resumable.
 Every gait is played as one trial of the body's own rules (its preset's task, lower agent and
 physics, in a world) from the rest posture; one that fails is not kept, so every elite is a
 verified gait. The gaits are played in exact physics, not in the memo table: a random cycle
-rarely shares a posture with another, so the table would measure about as many moves as the
-trial commands and save nothing.
+rarely shares a posture with another gait, so each of its k postures (and the rest posture)
+would be a new settled start for the table, about a second of simulated time each, and k + 1
+of them take about as long to simulate as the trial itself (30 commands of a fraction of a
+second each).
 
 A build may be seeded with a finished run's verified gaits (:func:`run_gaits`): they are
 played first, so the archive starts from the run's best and varies it.
