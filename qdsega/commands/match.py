@@ -4,8 +4,12 @@ from __future__ import annotations
 
 import argparse
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from qdsega.errors import ConfigError
+
+if TYPE_CHECKING:
+    import numpy as np
 
 NAME = "match"
 HELP = (
@@ -77,7 +81,13 @@ def run(args: argparse.Namespace) -> int:
     formations = list(dict.fromkeys(row["formation"] for row in rows))
     worlds = list(dict.fromkeys(row["world"] for row in rows))
     camera = CameraConfig(width=320, height=240)
-    stills = {key: final_still(out / cell.run, camera) for key, cell in cells.items() if cell.run}
+    shot = [(key, cell.run) for key, cell in cells.items() if cell.run]
+    line = ProgressLine("stills", len(shot), delay_s=5.0)  # each replays its cell's trial
+    stills: dict[tuple[str, str], np.ndarray] = {}
+    for done, (key, run) in enumerate(shot, start=1):
+        stills[key] = final_still(out / run, camera)
+        line.update(done, f"{key[0]} in {key[1]}")
+    line.close()
     files = write_matrix(cells, formations, worlds, out, stills)
     for world, body in best_bodies(cells).items():
         print(f"{world}: {body or 'no body moved'}")
