@@ -296,8 +296,10 @@ def run_sweep(
         run = runs[index]
         statuses[index] = status
         report(run, status)
-        counts["done"] += run.name not in kept
         counts["failed"] += status != "ok"
+        if run.name in kept:  # counted from the start: the line shows nothing new
+            return
+        counts["done"] += 1
         if line is not None:
             line.update(counts["done"], f"{counts['failed']} failed")
 

@@ -62,6 +62,7 @@ def test_a_rerun_keeps_finished_runs_and_resumes_unfinished_ones(local_sweep):
     again = run_cli("sweep", folder / "grid.yaml", "--out", folder / "out")
     assert (run / "evaluation.json").stat().st_mtime_ns == kept
     assert (folder / "out" / "sweep.csv").read_text() == first, again.stderr
+    assert again.stderr.count("sweep 2/2: ") == 1, again.stderr  # a kept run adds no line
     (run / "summary.json").unlink()  # as if the run had crashed before its end
     (run / "evaluation.json").unlink()
     resumed = run_cli("sweep", folder / "grid.yaml", "--out", folder / "out")
