@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from collections.abc import Iterator
+from contextlib import contextmanager
 from pathlib import Path
 
 import numpy as np
@@ -49,14 +51,27 @@ def render_postures(
 
 
 def final_still(run: Path, camera: CameraConfig) -> np.ndarray:
-    """The last picture of the run's evaluated trial, (height, width, 3) uint8: where its
-    gait took the body."""
-    return _run_film(run, camera).frames[-1]
+    """The picture at the end of the run's evaluated trial, (height, width, 3) uint8: where its
+    gait took the body. The trial is played unfilmed and pictured once."""
+    with _run_env(run, camera) as (env, postures):
+        env.reset(seed=0)
+        for posture in postures:
+            if env.step(posture)[2]:  # the lower agent failed: the trial ends there
+                break
+        return env.render()
 
 
 def _run_film(run: Path, camera: CameraConfig) -> Film:
-    """The run's greedy policy filmed in its own world: the postures ``qdsega evaluate``
-    replayed, or replayed anew where the run has no evaluation yet."""
+    """The run's greedy policy filmed in its own world."""
+    with _run_env(run, camera) as (env, postures):
+        return record(env, postures)
+
+
+@contextmanager
+def _run_env(run: Path, camera: CameraConfig) -> Iterator[tuple[LocomotionEnv, np.ndarray]]:
+    """A rendering env of the run's body under its rules in its own world, and the postures
+    of its greedy trial: those ``qdsega evaluate`` replayed, or replayed anew where the run
+    has no evaluation yet."""
     _, config, policy = load_run(run)
     formation = load_run_formation(run, config)
     evaluation = RunFolder(run).read_evaluation()
@@ -66,7 +81,7 @@ def _run_film(run: Path, camera: CameraConfig) -> Film:
             postures = np.array(evaluation["postures"])
         else:
             postures = np.array(replay_policy(env, policy)["postures"])
-        return record(env, postures)
+        yield env, postures
     finally:
         env.close()
 
