@@ -63,9 +63,6 @@ class BulletSimulation:
         self.settings = settings or PhysicsSettings()
         with native_output_silenced(1):  # the engine prints its banner to the C-level stdout
             self.client = BulletClient(connection_mode=pybullet.DIRECT)
-        self._folder = tempfile.TemporaryDirectory(prefix="qdsega-urdf-")
-        urdf_file = Path(self._folder.name) / f"{self.formation.name}.urdf"
-        write_assembly(robot, urdf_file)
         self.egl_enabled = egl and self._load_egl()
         if self.egl_enabled:
             _EGL_OPEN.add(self)
@@ -77,8 +74,13 @@ class BulletSimulation:
             flags |= pybullet.URDF_USE_SELF_COLLISION | (
                 pybullet.URDF_USE_SELF_COLLISION_EXCLUDE_PARENT
             )
-        with native_output_silenced(1):
-            self.body_id = self.client.loadURDF(str(urdf_file), flags=flags)
+        # The engine reads the file (and its meshes) as it loads: the folder goes at once, so
+        # that a process killed later leaves nothing behind.
+        with tempfile.TemporaryDirectory(prefix="qdsega-urdf-") as folder:
+            urdf_file = Path(folder) / f"{self.formation.name}.urdf"
+            write_assembly(robot, urdf_file)
+            with native_output_silenced(1):
+                self.body_id = self.client.loadURDF(str(urdf_file), flags=flags)
         self.link_index = self._link_indices()
         self._unit_link_indices = [self.link_index[u.name] for u in self.formation.units]
         self._unit_of_link = {index: name for name, index in self.link_index.items()}
@@ -339,7 +341,7 @@ class BulletSimulation:
         return np.asarray(rgba, dtype=np.uint8).reshape(height, width, 4)[:, :, :3].copy()
 
     def close(self) -> None:
-        """Disconnect from the physics server and delete the temporary URDF.
+        """Disconnect from the physics server.
 
         pybullet's EGL plugin ends the process-wide EGL display when any client that loaded
         it disconnects, and every other client still rendering then crashes (a segmentation
@@ -356,7 +358,6 @@ class BulletSimulation:
             else:
                 _disconnect(self.client)
             self.client = None  # type: ignore[assignment]
-        self._folder.cleanup()
 
     def __enter__(self) -> BulletSimulation:
         return self
