@@ -30,7 +30,7 @@ workers: {workers}
 local_search: 2
 agent:
   learning: {{trials: 60}}
-  genetic: {{population: 6, generations: 4}}
+  genetic: {{population: 6, generations: 3}}
 task: {{trial_steps: 5}}
 """
 
@@ -153,7 +153,7 @@ def test_ctrl_c_saves_and_resume_finishes(tmp_path):
 
     resumed = run_cli("train", "--resume", run)
     assert resumed.returncode == 0, resumed.stderr
-    assert finished_generations(run) == 4 and (run / "summary.json").is_file()
+    assert finished_generations(run) == 3 and (run / "summary.json").is_file()
     again = run_cli("train", "--resume", run)
     assert again.returncode == 2 and "nothing to resume" in again.stderr
 
