@@ -69,12 +69,12 @@ def test_a_run_with_ray_local_learns_what_local_processes_learn(tmp_path):
     assert without_wall_time(runs["ray"]) == without_wall_time(runs["local"])
 
 
-def test_more_ray_workers_than_cpus_are_refused_before_anything_is_written(tmp_path):
+def test_more_ray_workers_than_cpus_are_refused_before_anything_is_written(local_ray, tmp_path):
     from helpers import run_cli
 
-    result = run_cli(
+    result = run_cli(  # on the Ray instance already up in this process
         "train", "snake5", "--sim", "memo", "--ray", "local", "--workers", "64",
-        "--out", tmp_path / "run", own_process=True,
+        "--out", tmp_path / "run",
     )  # fmt: skip
     assert result.returncode == 2, result.stderr
     assert "64 Ray workers need 64 CPUs" in result.stderr
