@@ -13,7 +13,7 @@ from qdsega.analysis.recorder import Film, record
 from qdsega.analysis.video import VIDEO_SUFFIXES, write_video
 from qdsega.description import Formation, World
 from qdsega.errors import ConfigError, FormationError
-from qdsega.locomotion.env import LocomotionEnv, rules_env
+from qdsega.locomotion.env import LocomotionEnv, replay_postures, rules_env
 from qdsega.simulation.camera import CameraConfig
 from qdsega.training.formation_copy import load_run_formation, load_run_world
 from qdsega.training.run_folder import RunFolder
@@ -54,10 +54,7 @@ def final_still(run: Path, camera: CameraConfig) -> np.ndarray:
     """The picture at the end of the run's evaluated trial, (height, width, 3) uint8: where its
     gait took the body. The trial is played unfilmed and pictured once."""
     with _run_env(run, camera) as (env, postures):
-        env.reset(seed=0)
-        for posture in postures:
-            if env.step(posture)[2]:  # the lower agent failed: the trial ends there
-                break
+        replay_postures(env, postures)
         return env.render()
 
 
