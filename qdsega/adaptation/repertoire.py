@@ -9,6 +9,15 @@ would be a new settled start for the table, about a second of simulated time eac
 of them take about as long to simulate as the trial itself (30 commands of a fraction of a
 second each).
 
+The archive is filled in one of two worlds (``RepertoireSettings.fill``):
+
+* ``exact``: MAP-Elites in exact physics, each gait's descriptor measured in its trial
+  (:class:`~qdsega.adaptation.descriptor.GaitDescriptor`); any body.
+* ``msm``: MAP-Elites in the Minimal Simulation Model (:mod:`qdsega.adaptation.msm_fill`),
+  then every elite played once in exact physics, which keeps the ones that walk at their exact
+  distance, in their cells; legged bodies. It fills a large archive in minutes, and holds the
+  gaits a body walks with once a leg no longer works, which an exact search keeps too few of.
+
 A build may be seeded with a finished run's verified gaits (:func:`run_gaits`): they are
 played first, so the archive starts from the run's best and varies it.
 
@@ -24,23 +33,30 @@ from __future__ import annotations
 import hashlib
 import json
 import time
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import asdict, dataclass
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from qdsega.adaptation.archive import Archive, cvt_centroids, grid_centroids
 from qdsega.adaptation.descriptor import GaitDescriptor
+from qdsega.adaptation.fills import FILLS
 from qdsega.adaptation.map_elites import MapElites
+from qdsega.adaptation.msm_fill import DESCRIPTOR as MSM_DESCRIPTOR
+from qdsega.adaptation.msm_fill import commanded_duty, fill_in_msm
 from qdsega.atomic import replaced_atomically
 from qdsega.description import Formation
 from qdsega.errors import RunFolderError
 from qdsega.locomotion.rules import ExactRules
+from qdsega.msm import LegLayout
 from qdsega.progress import ProgressFactory
 from qdsega.training.checkpoint import load_checkpoint
 from qdsega.training.formation_copy import FormationSnapshot, copy_world
+
+if TYPE_CHECKING:
+    from qdsega.locomotion.exact_trials import CycleTrial
 
 ARCHIVE = "repertoire.npz"
 RECORD = "repertoire.json"
@@ -53,7 +69,9 @@ class RepertoireSettings:
     """How a repertoire is built.
 
     Attributes:
-        evaluations: gaits played in all (-).
+        fill: the world the archive is filled in, ``exact`` or ``msm`` (module docstring).
+        evaluations: gaits played in that world (-); an MSM fill then plays each elite in
+            exact physics.
         cells: the archive's cells, about (a grid rounds to a whole number a side) (-).
         batch: gaits played between two saves (-).
         initial: random gaits before variations of elites (-).
@@ -61,14 +79,17 @@ class RepertoireSettings:
         seed: the seed of the CVT and of the search.
     """
 
-    evaluations: int = 2000
-    cells: int = 128
+    fill: str = "exact"
+    evaluations: int = FILLS["exact"][0]
+    cells: int = FILLS["exact"][1]
     batch: int = 32
     initial: int = 200
     max_cycle: int = 6
     seed: int = 0
 
     def __post_init__(self) -> None:
+        if self.fill not in FILLS:
+            raise ValueError(f"fill must be one of {', '.join(FILLS)}, got {self.fill!r}")
         for name in ("evaluations", "cells", "batch", "initial"):
             if getattr(self, name) < 1:
                 raise ValueError(f"{name} must be at least 1, got {getattr(self, name)}")
@@ -129,11 +150,28 @@ def build_repertoire(
         RunFolderError: ``out`` holds a repertoire of another body or other settings, or a
             corrupt one.
     """
-    describe = GaitDescriptor.of(formation)
     levels = np.array([len(j.levels_rad) for j in formation.joints], dtype=np.int64)
     record = _record(formation, rules, settings, seeds, seeded_from)
     longest = max((len(g) for g in seeds), default=0)
     archive, search, told, elapsed = _resume(out, formation, settings, record, longest)
+    describe = _describer(formation, settings)
+    budget = settings.evaluations
+    start = time.perf_counter()
+    if settings.fill == "msm":  # the MSM's elites are the gaits exact physics plays
+        fast = empty_archive(formation, settings, longest=longest)
+        fill_in_msm(
+            formation,
+            fast,
+            task=rules.task,
+            evaluations=settings.evaluations,
+            initial=settings.initial,
+            max_cycle=settings.max_cycle,
+            rng=np.random.default_rng([settings.seed, 3]),
+            seeds=seeds,
+            progress=progress,
+        )
+        seeds = [*seeds, *(fast.gait(int(c)) for c in fast.filled)]
+        budget = len(seeds)
     if told == 0:
         snapshot = FormationSnapshot.of(formation)  # read before anything is written
         out.mkdir(parents=True, exist_ok=True)
@@ -150,17 +188,15 @@ def build_repertoire(
     emitter.told = told
     line = None
     if progress is not None:
-        line = progress("repertoire", settings.evaluations, initial=emitter.told)
+        line = progress("repertoire", budget, initial=emitter.told)
     from qdsega.locomotion.exact_trials import ExactTrials  # starts PyBullet: only here
 
-    start = time.perf_counter()
     try:
         with ExactTrials(formation=formation, rules=rules, workers=workers) as trials:
-            while emitter.told < settings.evaluations:
-                gaits = emitter.ask(min(settings.batch, settings.evaluations - emitter.told))
+            while emitter.told < budget:
+                gaits = emitter.ask(min(settings.batch, budget - emitter.told))
                 played = trials.cycles(gaits, steps=rules.task.trial_steps)
-                pairs = list(zip(gaits, played, strict=True))
-                descriptors = [describe(t.contacts, t.rollout.poses, len(g)) for g, t in pairs]
+                descriptors = [describe(g, t) for g, t in zip(gaits, played, strict=True)]
                 rollouts = [t.rollout for t in played]
                 distances = [np.nan if t.failed else t.distance_m for t in rollouts]
                 emitter.tell(gaits, np.array(descriptors), np.array(distances))
@@ -178,6 +214,18 @@ def build_repertoire(
         if line is not None:
             line.close()
     return record
+
+
+def _describer(
+    formation: Formation, settings: RepertoireSettings
+) -> Callable[[np.ndarray, CycleTrial], np.ndarray]:
+    """How the build describes a gait from its exact trial: measured for an exact fill, the
+    commands' duty factors (the cells the MSM filled) for an MSM fill."""
+    if settings.fill == "msm":
+        legs = LegLayout.from_formation(formation)
+        return lambda gait, _trial: commanded_duty(legs, gait)
+    measured = GaitDescriptor.of(formation)
+    return lambda gait, trial: measured(trial.contacts, trial.rollout.poses, len(gait))
 
 
 def load_repertoire(folder: Path) -> tuple[Archive, dict[str, Any]]:
@@ -209,6 +257,7 @@ def _record(
     seeded_from: Path | None,
 ) -> dict:
     descriptor = GaitDescriptor.of(formation)
+    kind = MSM_DESCRIPTOR if settings.fill == "msm" else descriptor.kind
     digest = hashlib.sha256()
     for gait in seeds:
         digest.update(np.ascontiguousarray(gait, dtype=np.int64).tobytes() + b";")
@@ -217,7 +266,7 @@ def _record(
         "joints": [j.name for j in formation.joints],
         "levels": [len(j.levels_rad) for j in formation.joints],
         "world": rules.world.name,
-        "descriptor": descriptor.kind,
+        "descriptor": kind,
         "descriptor_names": list(descriptor.names),
         "trial_steps": rules.task.trial_steps,
         "settings": asdict(settings),
@@ -241,8 +290,9 @@ def _resume(
     keys = ("formation", "joints", "levels", "world", "descriptor", "settings", "seeds")
     mine, theirs = ({k: dict(r.get(k) or {}) if k == "settings" else r.get(k) for k in keys}
                     for r in (record, saved))  # fmt: skip
-    for both in (mine, theirs):
-        both["settings"].pop("evaluations", None)  # a build may go on to a larger budget
+    if settings.fill == "exact":  # an exact build may go on to a larger budget
+        for both in (mine, theirs):
+            both["settings"].pop("evaluations", None)
     if mine != theirs:
         message = (
             "holds a repertoire of another body, world, descriptor, settings or seeds; choose "

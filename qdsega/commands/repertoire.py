@@ -5,12 +5,13 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
+from qdsega.adaptation.fills import FILLS, default_fill
 from qdsega.errors import ConfigError
 
 NAME = "repertoire"
 HELP = (
-    "build a body's repertoire: a MAP-Elites archive of diverse open-loop gaits, each played in "
-    "exact physics (re-running continues an interrupted build)"
+    "build a body's repertoire: a MAP-Elites archive of diverse open-loop gaits, each kept only "
+    "once exact physics has played it (re-running continues an interrupted build)"
 )
 
 
@@ -25,9 +26,17 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "--world", metavar="WORLD", help="a file or a shipped name; default flat (or the run's)"
     )
     parser.add_argument(
-        "--evaluations", type=int, default=2000, metavar="N", help="gaits played in all"
+        "--fill",
+        choices=tuple(FILLS),
+        help="the world the archive is filled in: msm (then every elite played in exact "
+        "physics; legged bodies) or exact; default msm for a body with legs on both sides",
     )
-    parser.add_argument("--cells", type=int, default=128, metavar="C", help="archive cells")
+    defaults = ", ".join(f"{fill} {n}" for fill, (n, _) in FILLS.items())
+    parser.add_argument(
+        "--evaluations", type=int, metavar="N", help=f"gaits played in that world ({defaults})"
+    )
+    cells = ", ".join(f"{fill} {c}" for fill, (_, c) in FILLS.items())
+    parser.add_argument("--cells", type=int, metavar="C", help=f"archive cells ({cells})")
     parser.add_argument("--seed", type=int, default=0, metavar="S")
     parser.add_argument("--workers", type=int, default=2, metavar="N", help="processes")
     parser.add_argument("--out", type=Path, metavar="DIR", help="default runs/repertoire-NAME")
@@ -55,12 +64,6 @@ def run(args: argparse.Namespace) -> int:
 
     if args.workers < 1:
         raise ConfigError(f"--workers must be at least 1, got {args.workers}")
-    try:
-        settings = RepertoireSettings(
-            evaluations=args.evaluations, cells=args.cells, seed=args.seed
-        )
-    except ValueError as exc:
-        raise ConfigError(f"--{exc}") from None
     run_folder = Path(args.formation)
     if run_folder.is_dir():  # a run: its body, world and rules, its gaits played first
         if args.world is not None:
@@ -75,6 +78,17 @@ def run(args: argparse.Namespace) -> int:
         formation = world.lights(load_formation(resolve_formation(args.formation)))
         config = resolve_config(overrides={"sim": "memo"}, formation=formation)
         seeds, seeded_from = [], None
+    fill = args.fill or default_fill(formation)
+    evaluations, cells = FILLS[fill]
+    try:
+        settings = RepertoireSettings(
+            fill=fill,
+            evaluations=evaluations if args.evaluations is None else args.evaluations,
+            cells=cells if args.cells is None else args.cells,
+            seed=args.seed,
+        )
+    except ValueError as exc:
+        raise ConfigError(f"--{exc}") from None
     out = args.out or Path("runs") / f"repertoire-{formation.name}"
     build_repertoire(
         formation,
@@ -90,9 +104,11 @@ def run(args: argparse.Namespace) -> int:
     if len(archive.filled):
         archive_map(archive, record, out / ARCHIVE_MAP)
     best = "none walked" if record["best_m"] is None else f"best {record['best_m']:.4f} m"
+    played = f"{record['evaluations_done']} gaits played"
+    if fill == "msm":
+        played = f"{settings.evaluations} gaits played in the MSM, {played} in exact physics,"
     print(
         f"{formation.name}: {record['filled']} cells of {settings.cells} filled "
-        f"({record['coverage']:.0%}), {best}, {record['evaluations_done']} gaits played in "
-        f"{record['wall_s']:.1f} s -> {out}"
+        f"({record['coverage']:.0%}), {best}, {played} in {record['wall_s']:.1f} s -> {out}"
     )
     return 0

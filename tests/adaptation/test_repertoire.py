@@ -47,7 +47,8 @@ def test_a_build_stopped_and_continued_gives_the_same_archive(tmp_path):
 
 
 def test_the_command_killed_and_run_again_builds_the_same_archive_and_draws_it(tmp_path):
-    args = ("repertoire", "quadruped", "--evaluations", "40", "--cells", "8", "--workers", "1")
+    args = ("repertoire", "quadruped", "--fill", "exact", "--evaluations", "40", "--cells", "8",
+            "--workers", "1")  # fmt: skip
     killed = tmp_path / "killed"
     process = start_cli(*args, "--out", killed)
     stop_when(process, (killed / "repertoire.npz").is_file, signal.SIGKILL)  # after a batch
@@ -66,6 +67,44 @@ def test_the_command_killed_and_run_again_builds_the_same_archive_and_draws_it(t
         assert np.array_equal(value, load_repertoire(killed)[0].state()[name], equal_nan=True)
 
 
+def test_an_msm_build_keeps_its_elites_that_walk_in_exact_physics_and_resumes(tmp_path):
+    settings = RepertoireSettings(fill="msm", evaluations=3000, cells=16, batch=4, initial=200)
+
+    def build(out, stop_after=None):
+        class Line:  # a progress line that stops the build after ``stop_after`` exact batches
+            def __init__(self, label, total, initial=0):
+                self.label, self.updates = label, 0
+
+            def update(self, done, text):
+                self.updates += self.label == "repertoire"
+                if stop_after is not None and self.updates >= stop_after:
+                    raise KeyboardInterrupt
+
+            def close(self):
+                pass
+
+        return build_repertoire(QUADRUPED, out, rules=RULES, settings=settings, workers=1,
+                                progress=Line)  # fmt: skip
+
+    whole = build(tmp_path / "whole")
+    archive, record = load_repertoire(tmp_path / "whole")
+    assert record["descriptor"] == "commanded duty factor per leg (filled in the MSM)"
+    assert 1 <= whole["filled"] <= whole["evaluations_done"] <= 16  # one exact trial an elite
+    from qdsega.locomotion.exact_trials import ExactTrials
+
+    with ExactTrials(formation=QUADRUPED, rules=RULES, workers=1) as exact:
+        for cell in archive.filled:
+            (trial,) = exact.cycles([archive.gait(int(cell))], steps=10)
+            assert not trial.rollout.failed and trial.rollout.distance_m == archive.fitness[cell]
+    with pytest.raises(KeyboardInterrupt):
+        build(tmp_path / "parts", stop_after=1)
+    assert load_repertoire(tmp_path / "parts")[1]["evaluations_done"] == 4
+    build(tmp_path / "parts")  # as after a kill: it goes on from its last batch
+    for name, value in archive.state().items():
+        assert np.array_equal(value, load_repertoire(tmp_path / "parts")[0].state()[name],
+                              equal_nan=True), name  # fmt: skip
+
+
 def test_another_body_or_a_corrupt_archive_is_refused_in_one_line(tmp_path):
     out = tmp_path / "rep"
     _build(out, 16)
@@ -74,6 +113,9 @@ def test_another_body_or_a_corrupt_archive_is_refused_in_one_line(tmp_path):
     assert result.returncode == 2 and len(result.stderr.splitlines()) == 1, result.stderr
     assert "another body" in result.stderr
     assert {p: p.read_bytes() for p in out.rglob("*") if p.is_file()} == before  # no write
+    snake = run_cli("repertoire", "snake5", "--fill", "msm", "--out", tmp_path / "snake")
+    assert snake.returncode == 2 and len(snake.stderr.splitlines()) == 1, snake.stderr
+    assert "needs a legged formation" in snake.stderr and not (tmp_path / "snake").exists()
     broken = tmp_path / "broken"
     shutil.copytree(out, broken)
     (broken / "repertoire.npz").write_bytes(b"not an archive")
