@@ -21,6 +21,8 @@ CVT_SAMPLES_PER_CELL = 50
 """Uniform samples Lloyd's algorithm places per cell (-)."""
 CVT_ITERATIONS = 30
 """Lloyd iterations of a CVT (-): the centroids move less than a cell's width by then."""
+NEAREST_BLOCK = 8192
+"""Points whose nearest centroid is found at once (-)."""
 
 
 def grid_centroids(dims: int, cells_per_dim: int) -> np.ndarray:
@@ -40,21 +42,26 @@ def cvt_centroids(dims: int, cells: int, rng: np.random.Generator) -> np.ndarray
     centroids = samples[rng.choice(len(samples), size=cells, replace=False)].copy()
     for _ in range(CVT_ITERATIONS):
         nearest = _nearest(centroids, samples)
-        for c in range(cells):
-            members = samples[nearest == c]
-            if len(members):
-                centroids[c] = members.mean(axis=0)
+        counts = np.bincount(nearest, minlength=cells)
+        sums = np.stack(
+            [np.bincount(nearest, weights=samples[:, d], minlength=cells) for d in range(dims)],
+            axis=1,
+        )
+        kept = counts > 0
+        centroids[kept] = sums[kept] / counts[kept, None]
     return centroids
 
 
 def _nearest(centroids: np.ndarray, points: np.ndarray) -> np.ndarray:
-    """The index of the nearest centroid to each point (n,)."""
-    squared = (
-        np.sum(points**2, axis=1)[:, None]
-        - 2.0 * points @ centroids.T
-        + np.sum(centroids**2, axis=1)[None, :]
-    )
-    return np.argmin(squared, axis=1)
+    """The index of the nearest centroid to each point (n,), in blocks of points so that a
+    large archive's distances need little memory."""
+    nearest = np.empty(len(points), dtype=np.int64)
+    squared_centroids = np.sum(centroids**2, axis=1)[None, :]
+    for start in range(0, len(points), NEAREST_BLOCK):
+        block = points[start : start + NEAREST_BLOCK]
+        squared = squared_centroids - 2.0 * block @ centroids.T  # + |point|^2: the same argmin
+        nearest[start : start + NEAREST_BLOCK] = np.argmin(squared, axis=1)
+    return nearest
 
 
 @dataclass

@@ -158,7 +158,8 @@ def build_repertoire(
     budget = settings.evaluations
     start = time.perf_counter()
     if settings.fill == "msm":  # the MSM's elites are the gaits exact physics plays
-        fast = empty_archive(formation, settings, longest=longest)
+        shape = archive.gaits.shape
+        fast = Archive.empty(archive.centroids, max_cycle=shape[1], n_joints=shape[2])
         fill_in_msm(
             formation,
             fast,
