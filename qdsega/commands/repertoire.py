@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from qdsega.adaptation.fills import FILLS
+from qdsega.adaptation.fills import FILLS, default_fill
 from qdsega.errors import ConfigError
 
 NAME = "repertoire"
@@ -28,9 +28,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--fill",
         choices=tuple(FILLS),
-        default=next(iter(FILLS)),
-        help="the world the archive is filled in: exact (default), or msm for a legged body "
-        "(then every elite played in exact physics); msm serves bodies of many legs better",
+        help="the world the archive is filled in: msm (then every elite played in exact "
+        "physics; the default for a body with legs on both sides) or exact (any body)",
     )
     defaults = ", ".join(f"{fill} {n}" for fill, (n, _) in FILLS.items())
     parser.add_argument(
@@ -79,10 +78,11 @@ def run(args: argparse.Namespace) -> int:
         formation = world.lights(load_formation(resolve_formation(args.formation)))
         config = resolve_config(overrides={"sim": "memo"}, formation=formation)
         seeds, seeded_from = [], None
-    evaluations, cells = FILLS[args.fill]
+    fill = args.fill or default_fill(formation)
+    evaluations, cells = FILLS[fill]
     try:
         settings = RepertoireSettings(
-            fill=args.fill,
+            fill=fill,
             evaluations=evaluations if args.evaluations is None else args.evaluations,
             cells=cells if args.cells is None else args.cells,
             seed=args.seed,
@@ -105,7 +105,7 @@ def run(args: argparse.Namespace) -> int:
         archive_map(archive, record, out / ARCHIVE_MAP)
     best = "none walked" if record["best_m"] is None else f"best {record['best_m']:.4f} m"
     played = f"{record['evaluations_done']} gaits played"
-    if args.fill == "msm":
+    if fill == "msm":
         played = f"{settings.evaluations} gaits played in the MSM, {played} in exact physics,"
     print(
         f"{formation.name}: {record['filled']} cells of {settings.cells} filled "

@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 
 from qdsega.adaptation.archive import Archive, cvt_centroids
+from qdsega.adaptation.fills import default_fill
 from qdsega.adaptation.msm_fill import commanded_duty, fill_in_msm, msm_distance
 from qdsega.agent.policy import SequencePolicy, rollout
 from qdsega.agent.space import ExplorationSpace
@@ -89,8 +90,9 @@ def test_a_fill_keeps_gaits_at_their_msm_distance_in_their_cells_and_repeats():
         assert np.array_equal(value, again.state()[name], equal_nan=True), name
 
 
-def test_a_body_without_legs_on_both_sides_is_refused():
+def test_a_body_without_legs_on_both_sides_is_refused_and_filled_in_exact_physics_instead():
     snake = load_formation(resolve_formation("snake5"))
+    assert default_fill(snake) == "exact" and default_fill(QUADRUPED) == "msm"
     archive = Archive.empty(np.full((4, 2), 0.5), max_cycle=4, n_joints=len(snake.joints))
     with pytest.raises(FormationError, match="needs a legged formation"):
         fill_in_msm(snake, archive, task=TaskConfig(), evaluations=10, initial=5, max_cycle=4,
