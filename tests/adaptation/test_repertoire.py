@@ -17,6 +17,7 @@ from qdsega.adaptation.repertoire import (
 )
 from qdsega.description import load_formation, resolve_formation
 from qdsega.errors import RunFolderError
+from qdsega.locomotion.exact_trials import ExactTrials
 from qdsega.training.config import resolve_config
 
 pytestmark = pytest.mark.slow  # exact physics: seconds a build
@@ -90,8 +91,6 @@ def test_an_msm_build_keeps_its_elites_that_walk_in_exact_physics_and_resumes(tm
     archive, record = load_repertoire(tmp_path / "whole")
     assert record["descriptor"] == "commanded duty factor per leg (filled in the MSM)"
     assert 1 <= whole["filled"] <= whole["evaluations_done"] <= 16  # one exact trial an elite
-    from qdsega.locomotion.exact_trials import ExactTrials
-
     with ExactTrials(formation=QUADRUPED, rules=RULES, workers=1) as exact:
         for cell in archive.filled:
             (trial,) = exact.cycles([archive.gait(int(cell))], steps=10)
