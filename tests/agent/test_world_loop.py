@@ -122,14 +122,7 @@ def _with_context(table: Transitions, gen: np.random.Generator) -> Transitions:
         dtheta=gen.uniform(-0.2, 0.2, (rows, m)),
         failed=gen.random((rows, m)) < 0.1,
     )
-    return Transitions(
-        dx=table.dx,
-        dy=table.dy,
-        dtheta=table.dtheta,
-        failed=table.failed,
-        context=context,
-        in_context=in_context,
-    )
+    return replace(table, context=context, in_context=in_context)
 
 
 def _with_paths(table: Transitions, gen: np.random.Generator) -> Transitions:
