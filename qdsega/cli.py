@@ -17,6 +17,7 @@ from qdsega.commands import (
     evaluate,
     match,
     plot,
+    reform,
     render,
     repertoire,
     report,
@@ -37,7 +38,7 @@ ShowWarning = Callable[[Warning | str, type[Warning], str, int, TextIO | None, s
 """The signature of ``warnings.showwarning``."""
 
 COMMANDS = (
-    assemble, train, evaluate, plot, render, report, sweep, match, bench, repertoire, adapt
+    assemble, train, evaluate, plot, render, report, sweep, match, bench, repertoire, adapt, reform
 )  # fmt: skip
 """Each module provides ``NAME``, ``HELP``, ``add_arguments(parser)`` and ``run(args) -> int``."""
 

@@ -26,10 +26,11 @@ import numpy as np
 import yaml
 
 from qdsega.atomic import replaced_atomically
+from qdsega.training.config import SCREENING_GENERATIONS
 from qdsega.training.run import PREDICTION_TOLERANCE
 
-SCREEN = {"agent": {"genetic": {"generations": 8}}}
-"""The screening budget: each body's own preset, cut to 8 generations."""
+SCREEN = {"agent": {"genetic": {"generations": SCREENING_GENERATIONS}}}
+"""The screening budget: each body's own preset, cut to its first generations."""
 
 
 @dataclass(frozen=True)

@@ -28,13 +28,7 @@ from __future__ import annotations
 import csv
 import io
 import itertools
-import multiprocessing
-import os
-import signal
-import threading
-import time
 from collections.abc import Callable, Sequence
-from concurrent.futures import ProcessPoolExecutor, as_completed
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -48,15 +42,13 @@ from qdsega.description import (
     named_world,
     resolve_formation,
 )
+from qdsega.driver import run_jobs
 from qdsega.errors import ConfigError, QdsegaError, WorldError
 from qdsega.progress import ProgressFactory
 from qdsega.training.config import SIMULATORS, default_preset, resolve_config
 from qdsega.training.run import TrainingInterrupted, train_or_resume
 from qdsega.training.run_folder import RunFolder
 from qdsega.yaml_reader import YamlDocument, load_yaml
-
-PARENT_CHECK_S = 1.0
-"""How often a run's process checks that the sweep that started it is still there (s)."""
 
 GRID_KEYS = ("formations", "worlds", "seeds", "sim", "presets", "configs", "reference_trials")
 """The keys a grid file may have."""
@@ -202,51 +194,27 @@ def _list_of(
     return items
 
 
-_sweep: int | None = None
-"""In a run's process: the process id of the sweep that started it."""
+@dataclass(frozen=True)
+class SweepJob:
+    """A sweep run as the driver's job: train (or resume, or keep) it in ``folder``, then
+    evaluate it."""
+
+    run: SweepRun
+    folder: Path
+
+    @property
+    def name(self) -> str:
+        return self.run.name
+
+    def kept(self) -> bool:
+        return (self.folder / RunFolder.EVALUATION).is_file()
+
+    def __call__(self) -> str | None:
+        return _train_and_evaluate(self.run, self.folder)
 
 
-def _stop_with_the_sweep() -> None:
-    """In a run's process: once the sweep that started it is gone (killed, not stopped by
-    Ctrl-C), stop the run as Ctrl-C would (its checkpoint kept), then end the process, so
-    that nothing goes on writing a run folder without the sweep."""
-    global _sweep
-    _sweep = os.getppid()
-
-    def watch() -> None:
-        while not _sweep_gone():
-            time.sleep(PARENT_CHECK_S)
-        os.kill(os.getpid(), signal.SIGINT)
-
-    threading.Thread(target=watch, name="sweep-watch", daemon=True).start()
-
-
-def _sweep_gone() -> bool:
-    return _sweep is not None and os.getppid() != _sweep
-
-
-_stopped = False
-"""Whether this process saw Ctrl-C: a run handed to it after that (a process pool queues one
-ahead) does not start."""
-
-
-def run_one(run: SweepRun, folder: Path) -> str:
-    """Train (or resume, or keep) and evaluate one run in ``folder``; ``"ok"``, or the step
-    that failed and its error. Ctrl-C stops the sweep, not just this run: it raises
-    ``KeyboardInterrupt`` here and in every later call in this process."""
-    global _stopped
-    if _stopped:
-        raise KeyboardInterrupt
-    try:
-        return _train_and_evaluate(run, folder)
-    except (KeyboardInterrupt, TrainingInterrupted):
-        _stopped = True
-        if _sweep_gone():  # the run stopped and saved; nothing waits for this process now
-            os._exit(130)
-        raise KeyboardInterrupt from None
-
-
-def _train_and_evaluate(run: SweepRun, folder: Path) -> str:
+def _train_and_evaluate(run: SweepRun, folder: Path) -> str | None:
+    """None, or the step that failed and its error."""
     from qdsega.analysis.evaluation import evaluate_run  # starts PyBullet: in the run's process
 
     step = "train"
@@ -266,7 +234,7 @@ def _train_and_evaluate(run: SweepRun, folder: Path) -> str:
     except Exception as exc:  # a failed run is a row of the table; the others go on
         detail = str(exc) if isinstance(exc, QdsegaError) else f"{type(exc).__name__}: {exc}"
         return f"{step}: {detail}"
-    return "ok"
+    return None
 
 
 def run_sweep(
@@ -278,69 +246,28 @@ def run_sweep(
     report: Callable[[SweepRun, str], None] = lambda run, status: None,
     progress: ProgressFactory | None = None,
 ) -> list[dict[str, Any]]:
-    """Run every run into ``OUT/NAME`` (``jobs`` at a time, or as Ray tasks when ``ray`` is
-    ``local`` or an address); write and return the table's rows. ``report(run, status)`` is
-    called as each run ends (on local processes in the order they end); ``progress`` makes
-    a line of runs finished of all, with an ETA (None: silent)."""
+    """Run every run into ``OUT/NAME`` (:func:`qdsega.driver.run_jobs`: ``jobs`` at a time, or
+    as Ray tasks when ``ray`` is ``local`` or an address); write and return the table's rows.
+    ``report(run, status)`` is called as each run ends, with ``"ok"`` or the step that failed
+    and its error; ``progress``: as the driver's."""
     if jobs < 1:
         raise ValueError(f"jobs must be at least 1, got {jobs}")
     out = out.resolve()
-    folders = [out / run.name for run in runs]
-    # Runs already evaluated are kept at once: counted as done, left out of the ETA's rate.
-    kept = {run.name for run, f in zip(runs, folders, strict=True) if _evaluated(f)}
-    line = None if progress is None else progress("sweep", len(runs), initial=len(kept))
-    statuses: list[str] = [""] * len(runs)
-    counts = {"done": len(kept), "failed": 0}
-
-    def ended(index: int, status: str) -> None:
-        run = runs[index]
-        statuses[index] = status
-        report(run, status)
-        counts["failed"] += status != "ok"
-        if run.name in kept:  # counted from the start: the line shows nothing new
-            return
-        counts["done"] += 1
-        if line is not None:
-            line.update(counts["done"], f"{counts['failed']} failed")
-
-    try:
-        if ray is not None:
-            from qdsega.workers.ray_cluster import connect
-
-            cluster = connect(ray)
-            remote = cluster.remote(num_cpus=1)(run_one)
-            pending = [remote.remote(run, f) for run, f in zip(runs, folders, strict=True)]
-            for index, task in enumerate(pending):
-                ended(index, cluster.get(task))
-        else:
-            spawn = multiprocessing.get_context("spawn")  # each run in a fresh process of its own
-            with ProcessPoolExecutor(
-                jobs, mp_context=spawn, initializer=_stop_with_the_sweep
-            ) as pool:
-                futures = {
-                    pool.submit(run_one, run, folder): index
-                    for index, (run, folder) in enumerate(zip(runs, folders, strict=True))
-                }
-                try:
-                    for future in as_completed(futures):
-                        ended(futures[future], future.result())
-                except BaseException:  # Ctrl-C: the runs not started never start
-                    pool.shutdown(cancel_futures=True)
-                    raise
-    finally:
-        if line is not None:
-            line.close()
+    sweep_jobs = [SweepJob(run, out / run.name) for run in runs]
+    errors = run_jobs(
+        sweep_jobs,
+        processes=jobs,
+        ray=ray,
+        label="sweep",
+        report=lambda job, error: report(job.run, error or "ok"),  # type: ignore[attr-defined]
+        progress=progress,
+    )
     rows = [
-        _row(run, folder, status)
-        for run, folder, status in zip(runs, folders, statuses, strict=True)
+        _row(job.run, job.folder, error or "ok")
+        for job, error in zip(sweep_jobs, errors, strict=True)
     ]
     write_table(rows, out)
     return rows
-
-
-def _evaluated(folder: Path) -> bool:
-    """Whether the run in ``folder`` was evaluated (a sweep keeps it as it is)."""
-    return (folder / RunFolder.EVALUATION).is_file()
 
 
 def _row(run: SweepRun, folder: Path, status: str) -> dict[str, Any]:
@@ -352,7 +279,7 @@ def _row(run: SweepRun, folder: Path, status: str) -> dict[str, Any]:
         row.update(status="failed", error=status)
         return row
     summary, evaluation = RunFolder(folder).read_summary(), RunFolder(folder).read_evaluation()
-    assert evaluation is not None, "run_one evaluates every run it reports ok"
+    assert evaluation is not None, "a run reported ok was evaluated"
     row.update(
         status="ok",
         distance_m=evaluation["distance_m"],

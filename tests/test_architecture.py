@@ -22,14 +22,15 @@ LAYERS = (
     ("qdsega.training",),
     ("qdsega.adaptation",),
     ("qdsega.analysis",),
+    ("qdsega.driver",),
     ("qdsega.sweep", "qdsega.bench"),
-    ("qdsega.match",),
+    ("qdsega.match", "qdsega.reform"),
     ("qdsega.commands",),
     ("qdsega.cli",),
 )
 """Bottom first. A module may import from its own layer's packages and the layers below;
 within a layer, only from its own package (``qdsega.sweep`` and ``qdsega.bench`` are
-siblings that know nothing of each other)."""
+siblings that know nothing of each other, as are ``qdsega.match`` and ``qdsega.reform``)."""
 
 ROOT_IMPORTS = {"qdsega.locomotion"}
 """``import qdsega`` registers the Gymnasium envs, and nothing else."""

@@ -58,6 +58,19 @@ def final_still(run: Path, camera: CameraConfig) -> np.ndarray:
         return env.render()
 
 
+def rest_still(
+    formation: Formation, camera: CameraConfig, *, world: World | None = None
+) -> np.ndarray:
+    """The body at rest where a trial starts, (height, width, 3) uint8: a picture of its
+    shape."""
+    env = LocomotionEnv(formation=formation, render_mode="rgb_array", camera=camera, world=world)
+    try:
+        env.reset()
+        return env.render()  # type: ignore[return-value]
+    finally:
+        env.close()
+
+
 def _run_film(run: Path, camera: CameraConfig) -> Film:
     """The run's greedy policy filmed in its own world."""
     with _run_env(run, camera) as (env, postures):

@@ -46,7 +46,7 @@ def write_report(run: Path | str, out: Path | None = None) -> Path:
     """
     run = Path(run)
     if is_adaptation(run):
-        return _write_page(_adaptation(run), out or run / RunFolder.REPORT)
+        return write_page(_adaptation(run), out or run / RunFolder.REPORT)
     folder = RunFolder(run)
     folder.require_finished(folder.CONFIG)
     summary, evaluation = folder.read_summary(), folder.read_evaluation()
@@ -61,13 +61,13 @@ def write_report(run: Path | str, out: Path | None = None) -> Path:
     parts = [
         f"<h1>{html.escape(title)}</h1>",
         "<h2>Summary</h2>",
-        _table({k: v for k, v in summary.items() if k != "warm_start"}),
+        html_table({k: v for k, v in summary.items() if k != "warm_start"}),
         *_warm_start(summary.get("warm_start")),
         "<h2>Evaluation with exact physics</h2>",
         _evaluation(evaluation, run),
         *_transfers(run),
         "<h2>Video</h2>",
-        _videos(run),
+        videos_html(run),
         "<h2>Figures</h2>",
         _figures(run),
         "<h2>Configuration</h2>",
@@ -76,10 +76,10 @@ def write_report(run: Path | str, out: Path | None = None) -> Path:
         f"<p class='note'>The run's copy; sha256 of it and its unit files {record.sha256}.</p>",
         f"<pre>{html.escape(formation)}</pre>",
     ]
-    return _write_page((title, parts), out or folder / folder.REPORT)
+    return write_page((title, parts), out or folder / folder.REPORT)
 
 
-def _write_page(content: tuple[str, list[str]], out: Path) -> Path:
+def write_page(content: tuple[str, list[str]], out: Path) -> Path:
     """Write the page of ``content`` (its title, its parts' HTML) to ``out``."""
     title, parts = content
     page = (
@@ -120,7 +120,7 @@ def _adaptation(folder: Path) -> tuple[str, list[str]]:
         raise RunFolderError(f"corrupt adaptation ({exc})", file=folder) from None
     curve = folder / ADAPTATION_CURVE
     figure = (
-        f"<figure><img alt='{ADAPTATION_CURVE}' src='{_data_uri(curve)}'></figure>"
+        f"<figure><img alt='{ADAPTATION_CURVE}' src='{data_uri(curve)}'></figure>"
         if curve.is_file()
         else "<p class='note'>No curve.</p>"
     )
@@ -129,9 +129,11 @@ def _adaptation(folder: Path) -> tuple[str, list[str]]:
     return title, [
         f"<h1>{html.escape(title)}</h1>",
         "<h2>Summary</h2>",
-        _table(summary),
+        html_table(summary),
         "<h2>Video of the gait found</h2>",
-        _videos(folder, f"qdsega render FORMATION --postures {folder / GAIT} -o {folder}/gait.mp4"),
+        videos_html(
+            folder, f"qdsega render FORMATION --postures {folder / GAIT} -o {folder}/gait.mp4"
+        ),
         "<h2>Adaptation curve</h2>",
         figure,
         "<h2>Every trial</h2>",
@@ -139,7 +141,8 @@ def _adaptation(folder: Path) -> tuple[str, list[str]]:
     ]
 
 
-def _table(values: dict[str, Any]) -> str:
+def html_table(values: dict[str, Any]) -> str:
+    """A two-column table: each key and its value."""
     rows = "".join(
         f"<tr><th>{html.escape(str(k))}</th><td>{html.escape(_format(v))}</td></tr>"
         for k, v in values.items()
@@ -175,7 +178,7 @@ def _evaluation(evaluation: dict[str, Any] | None, run: Path) -> str:
     if wave is not None:
         shown["period (steps)"] = wave["period_steps"]
         shown["phase lag between neighbouring joints (deg)"] = wave["phase_lag_deg"]
-    return _table({k: v for k, v in shown.items() if v is not None})
+    return html_table({k: v for k, v in shown.items() if v is not None})
 
 
 def _warm_start(record: dict[str, Any] | None) -> list[str]:
@@ -200,7 +203,7 @@ def _warm_start(record: dict[str, Any] | None) -> list[str]:
         shown["its best path on this body, exact physics, before generation 1 (m)"] = record[
             "handed_on_m"
         ]
-    return ["<h2>Warm start</h2>", _table(shown)]
+    return ["<h2>Warm start</h2>", html_table(shown)]
 
 
 def _transfers(run: Path) -> list[str]:
@@ -217,10 +220,10 @@ def _transfers(run: Path) -> list[str]:
             raise RunFolderError(f"corrupt run folder ({file.name}: {exc})", file=run) from None
     if not rows:
         return []
-    return ["<h2>This policy on other bodies (exact physics)</h2>", _table(rows)]
+    return ["<h2>This policy on other bodies (exact physics)</h2>", html_table(rows)]
 
 
-def _videos(run: Path, how: str | None = None) -> str:
+def videos_html(run: Path, how: str | None = None) -> str:
     """Every video in ``run``; where there is none, ``how`` to make one (a command)."""
     files = sorted(p for p in run.iterdir() if p.suffix.lower() in (".mp4", ".gif"))
     if not files:
@@ -228,7 +231,7 @@ def _videos(run: Path, how: str | None = None) -> str:
         return f"<p class='note'>No video: <code>{html.escape(how)}</code>.</p>"
     blocks = []
     for file in files:
-        uri = _data_uri(file)
+        uri = data_uri(file)
         if file.suffix.lower() == ".mp4":
             blocks.append(f"<video controls loop muted src='{uri}'></video>")
         else:
@@ -241,12 +244,13 @@ def _figures(run: Path) -> str:
     if not files:
         return f"<p class='note'>No figures: <code>qdsega plot {run}</code>.</p>"
     return "\n".join(
-        f"<figure><img alt='{html.escape(f.name)}' src='{_data_uri(f)}'>"
+        f"<figure><img alt='{html.escape(f.name)}' src='{data_uri(f)}'>"
         f"<figcaption>{html.escape(f.name)}</figcaption></figure>"
         for f in files
     )
 
 
-def _data_uri(file: Path) -> str:
+def data_uri(file: Path) -> str:
+    """``file`` (a picture or a video) as a data URI, to embed in a page."""
     encoded = base64.b64encode(file.read_bytes()).decode("ascii")
     return f"data:{_MEDIA[file.suffix.lower()]};base64,{encoded}"

@@ -58,7 +58,7 @@ def assemble(formation: Formation) -> AssembledRobot:
         robot.append(link)
         assets.update(link_assets)
         total_mass += properties[unit.unit_type.name].mass_kg
-    by_name = {unit.name: unit for unit in formation.units}
+    by_name = formation.units_by_name
     for unit in formation.units[1:]:
         robot.append(_joint(unit, by_name[unit.parent].unit_type.connectors[unit.connector]))
     ET.indent(robot, space="  ")

@@ -9,12 +9,9 @@ error, the others go on, and the report leaves it out.
 
 from __future__ import annotations
 
-import contextlib
-import multiprocessing
-import os
 import traceback
-from collections.abc import Callable, Iterator, Sequence
-from concurrent.futures import ProcessPoolExecutor, as_completed
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
 from pathlib import Path
 
 from qdsega.bench.curve import Curve
@@ -23,7 +20,41 @@ from qdsega.bench.report import provenance, write_report
 from qdsega.bench.runs import BenchRun, bench_runs
 from qdsega.bench.tasks import BenchTask
 from qdsega.bench.throughput import throughput
+from qdsega.driver import run_jobs
 from qdsega.progress import ProgressFactory
+from qdsega.training.run import TrainingInterrupted
+
+
+@dataclass(frozen=True)
+class BenchJob:
+    """A benchmark run as the driver's job: run it in its folder and keep its curve."""
+
+    run: BenchRun
+    out: Path
+
+    @property
+    def name(self) -> str:
+        return f"{self.run.task.name} {self.run.name}"
+
+    def kept(self) -> bool:
+        return self.run.result(self.out).is_file()
+
+    def __call__(self) -> str | None:
+        if self.kept():
+            return None
+        try:
+            folder = self.run.folder(self.out)
+            folder.mkdir(parents=True, exist_ok=True)
+            curve = METHODS[self.run.method](self.run.task, self.run.seed, folder)
+            file = self.run.result(self.out)
+            file.parent.mkdir(parents=True, exist_ok=True)
+            curve.save(file)
+            return None
+        except TrainingInterrupted:
+            raise
+        except Exception as exc:  # a failed run is reported, not fatal
+            lines = traceback.format_exception_only(exc)
+            return lines[-1].strip() if lines else repr(exc)
 
 
 def run_all(
@@ -34,74 +65,31 @@ def run_all(
     log: Callable[[str], None] = print,
     progress: ProgressFactory | None = None,
 ) -> list[str]:
-    """Run every unfinished run, ``jobs`` at a time; return the failed runs' one-line errors.
-    ``progress`` makes a line of runs finished of all, with an ETA (None: silent)."""
+    """Run every unfinished run, ``jobs`` at a time (:func:`qdsega.driver.run_jobs`); return
+    the failed runs' one-line errors. ``progress``: as the driver's."""
     if jobs < 1:
         raise ValueError(f"jobs must be at least 1, got {jobs}")
-    todo = [run for run in runs if not run.result(out).is_file()]
-    before = len(runs) - len(todo)
-    log(f"{before} of {len(runs)} runs finished before; running {len(todo)}")
-    errors: list[str] = []
-    line = None if progress is None or not todo else progress("bench", len(runs), initial=before)
-    context = multiprocessing.get_context("spawn")  # no simulator or torch state inherited
-    try:
-        with (
-            _one_thread_each(),
-            ProcessPoolExecutor(max_workers=jobs, mp_context=context) as pool,
-        ):
-            futures = {pool.submit(_run_one, run, out): run for run in todo}
-            for done, future in enumerate(as_completed(futures), start=before + 1):
-                run = futures[future]
-                label = f"{run.task.name} {run.name}"
-                error = future.result()
-                if error is None:
-                    curve = Curve.load(run.result(out))
-                    log(f"{label}: {curve.distance_m[-1]:.3f} m at {curve.steps[-1]} steps")
-                else:
-                    errors.append(f"{label}: {error}")
-                    log(f"{label}: FAILED: {error}")
-                if line is not None:
-                    line.update(done, f"{len(errors)} failed")
-    finally:
-        if line is not None:
-            line.close()
-    return errors
+    bench_jobs = [BenchJob(run, out) for run in runs]
+    kept = {job.name for job in bench_jobs if job.kept()}
+    log(f"{len(kept)} of {len(runs)} runs finished before; running {len(runs) - len(kept)}")
 
+    def ended(job: BenchJob, error: str | None) -> None:
+        if job.name in kept:
+            return
+        if error is None:
+            curve = Curve.load(job.run.result(out))
+            log(f"{job.name}: {curve.distance_m[-1]:.3f} m at {curve.steps[-1]} steps")
+        else:
+            log(f"{job.name}: FAILED: {error}")
 
-ONE_THREAD = ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS")
-"""Environment variables that hold each worker's linear algebra to one thread."""
-
-
-@contextlib.contextmanager
-def _one_thread_each() -> Iterator[None]:
-    """Workers started within hold their linear algebra to one thread: a run is one core's
-    work, and with two threads per worker on two cores CMA-ES's eigendecompositions (73 x 73
-    for legged12) took 96 ms instead of 1 ms each (threads waiting on each other)."""
-    saved = {name: os.environ.get(name) for name in ONE_THREAD}
-    os.environ.update(dict.fromkeys(ONE_THREAD, "1"))
-    try:
-        yield
-    finally:
-        for name, value in saved.items():
-            if value is None:
-                os.environ.pop(name, None)
-            else:
-                os.environ[name] = value
-
-
-def _run_one(run: BenchRun, out: Path) -> str | None:
-    """Run ``run`` and keep its curve; its error's last line if it fails."""
-    try:
-        folder = run.folder(out)
-        folder.mkdir(parents=True, exist_ok=True)
-        curve = METHODS[run.method](run.task, run.seed, folder)
-        file = run.result(out)
-        file.parent.mkdir(parents=True, exist_ok=True)
-        curve.save(file)
-        return None
-    except Exception as exc:  # a failed run is reported, not fatal
-        lines = traceback.format_exception_only(exc)
-        return lines[-1].strip() if lines else repr(exc)
+    errors = run_jobs(
+        bench_jobs,
+        processes=jobs,
+        label="bench",
+        report=ended,  # type: ignore[arg-type]
+        progress=None if len(kept) == len(runs) else progress,
+    )
+    return [f"{job.name}: {error}" for job, error in zip(bench_jobs, errors, strict=True) if error]
 
 
 def load_curves(runs: Sequence[BenchRun], out: Path) -> dict[BenchRun, Curve]:

@@ -9,7 +9,7 @@ import argparse
 import time
 from pathlib import Path
 
-from qdsega.errors import ConfigError, FormationError
+from qdsega.errors import ConfigError
 
 NAME = "assemble"
 HELP = "assemble formation YAML files into URDF files"
@@ -40,7 +40,7 @@ def run(args: argparse.Namespace) -> int:
     # which the other commands need not.
     from qdsega.assembly import assemble, write_assembly
     from qdsega.description import load_formation, resolve_formation
-    from qdsega.simulation.reach import unreachable_levels
+    from qdsega.simulation.reach import check_reach
 
     if args.output is not None and len(args.formations) > 1:
         raise ConfigError("-o/--output takes one formation; use --out-dir for several")
@@ -49,12 +49,7 @@ def run(args: argparse.Namespace) -> int:
         start = time.perf_counter()
         formation = load_formation(resolve_formation(file))
         robot = assemble(formation)
-        blocked = unreachable_levels(robot)
-        if blocked:
-            unit = next(u for u in formation.units if u.joint_name == blocked[0].joint)
-            others = len(blocked) - 1
-            more = f" ({others} more level{'s' * (others > 1)} blocked)" if others else ""
-            raise FormationError(f"{blocked[0]}{more}", file=formation.file, line=unit.line)
+        check_reach(robot)
         elapsed_ms = 1000.0 * (time.perf_counter() - start)
         out = args.output or (args.out_dir or Path.cwd()) / f"{formation.name}.urdf"
         write_assembly(robot, out)

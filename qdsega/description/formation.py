@@ -179,6 +179,11 @@ class Formation:
         """Each unit's position in :attr:`units`, by name: the columns of a contact record."""
         return {u.name: i for i, u in enumerate(self.units)}
 
+    @cached_property
+    def units_by_name(self) -> dict[str, PlacedUnit]:
+        """Every unit by its name."""
+        return {u.name: u for u in self.units}
+
     def joint_index(self, joint_name: str) -> int:
         """Position of ``joint_name`` in :attr:`joints`."""
         names = [j.name for j in self.joints]

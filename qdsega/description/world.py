@@ -83,6 +83,15 @@ class Box:
     yaw_rad: float
 
 
+def _box_key(box: Box, *, mirror: bool = False) -> tuple[float, ...]:
+    """A box's place, size and yaw (modulo a half turn, which leaves a box as it is), rounded;
+    with ``mirror``, those of its mirror image across y = 0."""
+    x, y, z = box.xyz_m
+    yaw = -box.yaw_rad if mirror else box.yaw_rad
+    turn = round(math.degrees(yaw) % 180.0, 6) % 180.0
+    return (round(x, 9), round(-y if mirror else y, 9), round(z, 9), *box.size_m, turn)
+
+
 @dataclass(frozen=True)
 class Corridor:
     """Two walls along +x, ``width_m`` apart, from behind the start to ``length_m``."""
@@ -153,6 +162,18 @@ class World:
         """A level plane with nothing on it, whatever its friction: a move there depends on
         neither where the body stands nor which way it faces."""
         return self.slope_rad == 0 and self.is_plane
+
+    @property
+    def is_mirror_symmetric(self) -> bool:
+        """The world is its own mirror image across the start heading's vertical plane (y ->
+        -y): no rough ground, a slope along the heading if any, every box with its mirror
+        image, and a light (if it has one) straight ahead or behind. A body and its mirror
+        image walk alike here, given a light ahead or behind."""
+        along = self.slope_rad == 0 or abs(math.sin(self.slope_toward_rad)) < 1e-9
+        light = self.light is None or abs(math.sin(self.light.bearing_rad)) < 1e-9
+        boxes = {_box_key(box) for box in self.boxes}
+        mirrored = all(_box_key(box, mirror=True) in boxes for box in self.boxes)
+        return self.rough is None and along and light and mirrored
 
     def lights(self, formation: Formation) -> Formation:
         """``formation`` with this world's light, where the world has one."""

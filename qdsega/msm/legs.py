@@ -45,18 +45,19 @@ class LegLayout:
             raise ValueError(f"leg joint indices must be distinct and in [0, {self.n_joints})")
 
     @classmethod
-    def from_formation(cls, formation: Formation) -> LegLayout:
-        """The layout of a legged formation.
+    def from_formation(cls, formation: Formation, *, both_sides: bool = True) -> LegLayout:
+        """The layout of a legged formation; with ``both_sides`` (the MSM's need) it must have
+        legs on both sides.
 
         Raises:
-            FormationError: the formation has no legs, or no legs on one side.
+            FormationError: the formation has no legs, or (``both_sides``) none on one side.
         """
         if not formation.legs:
             raise FormationError(
                 "the Minimal Simulation Model needs a legged formation (this one has no legs)",
                 file=formation.file,
             )
-        for side in ("left", "right"):
+        for side in ("left", "right") if both_sides else ():
             if not formation.legs_on(side):
                 raise FormationError(
                     f"the Minimal Simulation Model needs legs on both sides (none on the {side})",

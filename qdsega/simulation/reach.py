@@ -24,6 +24,7 @@ import math
 from dataclasses import dataclass
 
 from qdsega.assembly import AssembledRobot
+from qdsega.errors import FormationError
 from qdsega.simulation.bullet import BulletSimulation
 from qdsega.simulation.settings import PhysicsSettings
 
@@ -109,6 +110,23 @@ def unreachable_levels(
                         break
             sim.place_joints([joint_id], [rest_rad])
     return blocked
+
+
+def check_reach(robot: AssembledRobot) -> None:
+    """Refuse a body with a level that a joint cannot reach (:func:`unreachable_levels`).
+
+    Raises:
+        FormationError: the first blocked level, at the line of the unit whose joint it is,
+            and how many more are blocked.
+    """
+    blocked = unreachable_levels(robot)
+    if not blocked:
+        return
+    formation = robot.formation
+    unit = next(u for u in formation.units if u.joint_name == blocked[0].joint)
+    others = len(blocked) - 1
+    more = f" ({others} more level{'s' * (others > 1)} blocked)" if others else ""
+    raise FormationError(f"{blocked[0]}{more}", file=formation.file, line=unit.line)
 
 
 def _deepest_overlap(

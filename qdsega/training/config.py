@@ -41,6 +41,9 @@ from qdsega.yaml_reader import KeyPath, YamlDocument, format_key_path, load_yaml
 
 SIMULATORS = ("msm", "memo", "pybullet")
 """Worlds ``qdsega train`` can learn in (:mod:`qdsega.training.sims`)."""
+SCREENING_GENERATIONS = 8
+"""The screening budget: a body's own preset cut to this many generations, to rank many bodies
+(``qdsega match``) or candidate formations (``qdsega reform``) before learning the best ones."""
 DEFAULT_PRESET = "paper-legged"
 """The preset of a configuration that names none and knows no body (see
 :func:`default_preset` for the rule a run applies)."""

@@ -142,6 +142,34 @@ def train(
             exterior states differ, or (without ``allow_unmatched``) from an unrelated body.
         TrainingInterrupted: Ctrl-C; ``out`` holds the last finished generation.
     """
+    return _finished(
+        _start(
+            formation_file,
+            config,
+            out,
+            overwrite=overwrite,
+            progress=progress,
+            warm_start=warm_start,
+            allow_unmatched=allow_unmatched,
+            world=world,
+        )
+    )
+
+
+def _start(
+    formation_file: Path | str,
+    config: TrainingConfig,
+    out: Path | str,
+    *,
+    overwrite: bool = False,
+    progress: Progress | None = None,
+    warm_start: Path | WarmStart | None = None,
+    allow_unmatched: bool = False,
+    world: World | None = None,
+    until: int | None = None,
+) -> dict[str, Any] | None:
+    """:func:`train`, stopped after generation ``until`` (None: at the end) with the run left
+    resumable (None returned then)."""
     out = Path(out)
     folder = RunFolder(out)
     original = load_formation(formation_file)
@@ -181,7 +209,13 @@ def train(
         if warm is not None:
             warm.mapping.save(folder / folder.WARM_START_STATE, warm.source)
             folder.write_json(folder.WARM_START, warm.record)
-        return _run(folder, load_run_formation(out, config), config, None, progress)
+        formation = load_run_formation(out, config)
+        return _run(folder, formation, config, None, progress, until=until)
+
+
+def _finished(summary: dict[str, Any] | None) -> dict[str, Any]:
+    assert summary is not None, "a run not stopped early finishes"
+    return summary
 
 
 def _warm_source(
@@ -225,6 +259,13 @@ def resume(run: Path | str, *, progress: Progress | None = None) -> dict[str, An
         WorldError: a body that would start inside one of the world's obstacles.
         TrainingInterrupted: Ctrl-C; ``run`` holds the last finished generation.
     """
+    return _finished(_continue(run, progress=progress))
+
+
+def _continue(
+    run: Path | str, *, progress: Progress | None = None, until: int | None = None
+) -> dict[str, Any] | None:
+    """:func:`resume`, stopped after generation ``until`` as :func:`_start` is."""
     run = Path(run)
     folder = RunFolder(run)
     if not run.is_dir():
@@ -243,7 +284,7 @@ def resume(run: Path | str, *, progress: Progress | None = None) -> dict[str, An
             raise RunFolderError(
                 f"run is finished ({folder.SUMMARY} exists); nothing to resume", file=run
             )
-        return _run(folder, formation, config, load_checkpoint(run), progress)
+        return _run(folder, formation, config, load_checkpoint(run), progress, until=until)
 
 
 def train_or_resume(
@@ -272,6 +313,36 @@ def train_or_resume(
     return train(formation_file, config, out, progress=progress, world=world)
 
 
+def train_until(
+    formation_file: Path | str,
+    config: TrainingConfig,
+    out: Path | str,
+    *,
+    generations: int,
+    world: World | None = None,
+) -> int:
+    """Learn the run ``out`` (trained with ``config`` in ``world``, or resumed) up to
+    generation ``generations`` and stop there, resumable: the first generations of the run
+    that :func:`train_or_resume` would finish. Return the generations it has learnt.
+
+    Raises:
+        RunFolderError, FormationError, ConfigError: as :func:`train` and :func:`resume`.
+        TrainingInterrupted: Ctrl-C; ``out`` holds the last finished generation.
+    """
+    folder = RunFolder(out)
+    if not folder.started:
+        _start(formation_file, config, out, world=world, until=generations)
+    elif not folder.finished and completed_generations(folder.path) < generations:
+        _continue(out, until=generations)
+    return completed_generations(folder.path)
+
+
+def completed_generations(run: Path) -> int:
+    """Generations the run folder ``run`` has learnt (its checkpoint's; 0 before the first)."""
+    checkpoint = load_checkpoint(run)
+    return 0 if checkpoint is None else checkpoint.learner.completed
+
+
 def _contents(folder: Path) -> list[Path]:
     """What ``folder`` holds besides its lock file (nothing when it does not exist)."""
     if not folder.is_dir():
@@ -285,7 +356,11 @@ def _run(
     config: TrainingConfig,
     checkpoint: Checkpoint | None,
     progress: Progress | None,
-) -> dict[str, Any]:
+    *,
+    until: int | None = None,
+) -> dict[str, Any] | None:
+    """Learn generations until the run's last (then finish it and return its summary) or
+    until generation ``until`` (then leave it resumable and return None)."""
     session_start = time.perf_counter()
     out = folder.path
     sim = build_sim(
@@ -332,7 +407,8 @@ def _run(
         warned = False
         with InterruptWatch() as watch:
             try:
-                while learner.completed < config.agent.genetic.generations:
+                last = config.agent.genetic.generations
+                while learner.completed < (last if until is None else min(until, last)):
                     before = sim.failures
                     path = learner.untried_path  # ask: a handed-on path no trial has verified
                     handed_on = None if path is None else sim.verify(path)
@@ -365,6 +441,8 @@ def _run(
                             checkpoint, generation, exact, config, session_start, resumed_at
                         )
                         progress.generation(report, failed)
+                if learner.completed < last:
+                    return None
                 return _finish(folder, formation, config, sim, checkpoint)
             except BaseException as exc:
                 if not (watch.interrupted or isinstance(exc, KeyboardInterrupt)):

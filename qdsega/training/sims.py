@@ -324,7 +324,7 @@ def build_sim(
         model = MinimalSimulationModel(legs=layout, params=config.msm)
         optimum = msm_optimum(model, steps=task.trial_steps, light_xy=tuple(task.light))
         return TrainingSim(model, None, None, task, optimum, layout, world=rules.world)
-    layout = LegLayout.from_formation(formation) if formation.legs else None
+    layout = LegLayout.from_formation(formation, both_sides=False) if formation.legs else None
     from qdsega.locomotion.env import rules_env  # starts PyBullet: only when needed
     from qdsega.locomotion.env_world import EnvWorld
 

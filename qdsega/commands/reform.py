@@ -1,0 +1,86 @@
+"""``qdsega reform``: the formation a body's units should take (after damage, or for a world),
+and the fewest moves that get there."""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+NAME = "reform"
+HELP = (
+    "find the formation a body's units should take in a world: candidate bodies made of its "
+    "units (and spares), screened, the best learnt and judged in exact physics against the "
+    "body as it is; writes the winner, the fewest moves to it and one page"
+)
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    from qdsega.reform.search import ReformSettings
+
+    defaults = ReformSettings()
+    parser.add_argument("formation", metavar="FORMATION", help="the body now: a file or a name")
+    parser.add_argument("--world", metavar="WORLD", help="a world file or shipped name (flat)")
+    parser.add_argument(
+        "--spare", action="append", default=[], metavar="TYPE=N",
+        help="spare units it may use besides its own, e.g. --spare servo=2 (repeatable)",
+    )  # fmt: skip
+    parser.add_argument(
+        "--repertoire", type=Path, metavar="REP",
+        help="the intact body's repertoire (qdsega repertoire): the body as it is is also "
+        "adapted from it",
+    )  # fmt: skip
+    parser.add_argument("--out", type=Path, metavar="DIR", help="default runs/reform-NAME")
+    parser.add_argument("--jobs", type=int, default=1, metavar="N", help="runs at a time")
+    parser.add_argument("--ray", metavar="local|ADDRESS", help="runs as Ray tasks instead")
+    parser.add_argument("--seed", type=int, default=defaults.seed, metavar="S")
+    parser.add_argument(
+        "--screen", type=int, default=defaults.screen, metavar="G",
+        help=f"generations each candidate learns before ranking ({defaults.screen})",
+    )  # fmt: skip
+    parser.add_argument(
+        "--rounds", type=int, default=defaults.rounds, metavar="R",
+        help=f"rounds of moves; later ones move on from the best few ({defaults.rounds})",
+    )  # fmt: skip
+    parser.add_argument(
+        "--top", type=int, default=defaults.top, metavar="K",
+        help=f"candidates learnt to the end besides the body as it is ({defaults.top})",
+    )  # fmt: skip
+
+
+def run(args: argparse.Namespace) -> int:
+    # Imported here: the search starts PyBullet, which the other commands need not load.
+    from qdsega.description import resolve_formation, resolve_world
+    from qdsega.progress import ProgressLine
+    from qdsega.reform.folder import ReformFolder
+    from qdsega.reform.material import parse_spares
+    from qdsega.reform.search import ReformSettings, reform
+
+    settings = ReformSettings(seed=args.seed, screen=args.screen, rounds=args.rounds, top=args.top)
+    formation = resolve_formation(args.formation)
+    world = None if args.world is None else resolve_world(args.world)
+    place = "" if world is None else f"-{world.stem}"
+    out = args.out or Path("runs") / f"reform-{formation.stem}{place}"
+    record = reform(
+        formation,
+        out=out,
+        world_file=world,
+        spares=parse_spares(args.spare),
+        repertoire=args.repertoire,
+        settings=settings,
+        jobs=args.jobs,
+        ray=args.ray,
+        progress=ProgressLine,
+    )
+    winner = record["winner"]
+    folder = ReformFolder(out)
+    verdict = (
+        f"re-form into {winner['name']} in {len(winner['moves'])} moves"
+        if winner["reformed"]
+        else f"keep the body ({winner['how']})"
+    )
+    print(
+        f"{record['inputs']['formation']}: {verdict}, {winner['distance_m']:.4f} m with exact "
+        f"physics ({record['wall_s'] / 60:.1f} min) -> {folder.summary}, {folder.plan}, "
+        f"{folder.page}"
+    )
+    return 0

@@ -1,0 +1,433 @@
+"""``qdsega reform``: the formation a body's units should take, in a world, and how to get there.
+
+1. The candidates (:mod:`qdsega.reform.candidates`) are written as formation files and checked
+   as ``qdsega assemble`` checks a body (the reach check included) and as ``train`` checks a
+   body in its world; one that fails is dropped with its reason.
+2. **Screening**: each candidate learns the first generations of its own run (its own preset,
+   memo mode, the screening budget of generations), and its best greedy policy so far in exact
+   physics is its estimate. Later rounds move on from the best few.
+3. **Learning**: the best candidates, and always the body as it is, learn their runs to the
+   end, and each is evaluated in exact physics. Given the intact body's repertoire, the body
+   as it is is also adapted from it (``qdsega adapt``).
+4. The farthest in exact physics wins; a re-formation is proposed only where it beats the body
+   as it is, relearnt and adapted.
+
+Everything lives in the output folder, and every step is kept as it finishes (run folders
+resume, an adaptation is kept), so a reform stopped at any moment continues where it was.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import time
+import warnings
+from collections.abc import Callable, Sequence
+from dataclasses import asdict, dataclass
+from pathlib import Path
+from typing import Any
+
+from qdsega.atomic import replaced_atomically
+from qdsega.description import Formation, World, load_formation, named_world
+from qdsega.description.formation_writer import formation_yaml
+from qdsega.driver import run_jobs
+from qdsega.errors import ConfigError, FormationError, QdsegaError, QdsegaWarning, RunFolderError
+from qdsega.progress import ProgressFactory
+from qdsega.reform.candidates import AS_IT_IS, Candidate, Candidates
+from qdsega.reform.folder import ReformFolder
+from qdsega.reform.material import material_of
+from qdsega.reform.outputs import write_outputs
+from qdsega.training.config import SCREENING_GENERATIONS, resolve_config
+from qdsega.training.run import TrainingInterrupted, train_or_resume, train_until
+from qdsega.training.run_folder import RunFolder
+
+
+@dataclass(frozen=True, kw_only=True)
+class ReformSettings:
+    """How hard a reform looks.
+
+    Attributes:
+        seed: every run's seed.
+        screen: generations each candidate learns before they are ranked.
+        rounds: rounds of moves; each after the first moves on from the ``widen`` best.
+        widen: candidates each later round moves on from.
+        top: candidates learnt to the end besides the body as it is.
+        reference_trials: the CMA-ES reference search of each learnt run's evaluation
+            (``qdsega evaluate --reference-trials``; 0: the classic gaits only).
+    """
+
+    seed: int = 0
+    screen: int = SCREENING_GENERATIONS
+    rounds: int = 2
+    widen: int = 2
+    top: int = 3
+    reference_trials: int = 0
+
+    def __post_init__(self) -> None:
+        for name in ("screen", "rounds", "widen", "top"):
+            if getattr(self, name) < 1:
+                raise ConfigError(f"{name} must be at least 1, got {getattr(self, name)}")
+        if self.reference_trials < 0:
+            raise ConfigError(f"reference_trials must be 0 or more, got {self.reference_trials}")
+
+
+@dataclass(frozen=True)
+class CandidateJob:
+    """A candidate's run as the driver's job: its first ``until`` generations (screening), or
+    all of them and its evaluation (``until`` None)."""
+
+    name: str
+    formation: Path
+    folder: Path
+    world: Path | None
+    seed: int
+    workers: int
+    until: int | None
+    reference_trials: int
+
+    def kept(self) -> bool:
+        if self.until is None:
+            return (self.folder / RunFolder.EVALUATION).is_file()
+        return RunFolder(self.folder).finished or _learnt(self.folder) >= self.until
+
+    def __call__(self) -> str | None:
+        from qdsega.analysis.evaluation import evaluate_run  # starts PyBullet: in the job
+
+        warnings.simplefilter("ignore", QdsegaWarning)  # a body that cannot move: its estimate
+        try:
+            formation = load_formation(self.formation)
+            config = resolve_config(
+                overrides={"sim": "memo", "seed": self.seed, "workers": self.workers},
+                formation=formation,
+            )
+            world = None if self.world is None else named_world(self.world)
+            if self.until is not None:
+                train_until(
+                    self.formation, config, self.folder, generations=self.until, world=world
+                )
+                return None
+            train_or_resume(self.formation, config, self.folder, world=world)
+            if RunFolder(self.folder).read_evaluation() is None:
+                evaluate_run(self.folder, reference_trials=self.reference_trials)
+        except TrainingInterrupted:
+            raise
+        except Exception as exc:  # a candidate that fails is dropped; the others go on
+            return str(exc) if isinstance(exc, QdsegaError) else f"{type(exc).__name__}: {exc}"
+        return None
+
+
+def _learnt(folder: Path) -> int:
+    """Generations a candidate's run has learnt, from its metrics (0 before the first)."""
+    if not (folder / RunFolder.METRICS).is_file():
+        return 0
+    return len(RunFolder(folder).read_metrics()["generation"])
+
+
+def reform(
+    formation_file: Path,
+    *,
+    out: Path,
+    world_file: Path | None = None,
+    spares: dict[str, int] | None = None,
+    repertoire: Path | None = None,
+    settings: ReformSettings = ReformSettings(),
+    jobs: int = 1,
+    ray: str | None = None,
+    progress: ProgressFactory | None = None,
+    log: Callable[[str], None] = print,
+) -> dict[str, Any]:
+    """Re-form the body of ``formation_file`` into ``out``; return the record (``reform.json``).
+
+    Raises:
+        FormationError: the body does not assemble, or cannot start in the world; a spare type
+            no unit folder defines.
+        WorldError: an unreadable world.
+        RunFolderError: ``out`` holds another reform; ``repertoire`` is not a repertoire, or
+            was built in another world.
+        ConfigError: bad settings, or no candidate moves at all.
+    """
+    start_time = time.perf_counter()
+    if jobs < 1:
+        raise ConfigError(f"--jobs must be at least 1, got {jobs}")
+    formation = load_formation(formation_file)
+    world = World() if world_file is None else named_world(world_file)
+    material = material_of(formation, spares or {})
+    symmetric = (
+        world.is_mirror_symmetric
+        and abs(math.sin(world.lights(formation).light.bearing_rad)) < 1e-9
+    )
+    if repertoire is not None:
+        _check_repertoire(repertoire, world)
+    inputs = {
+        "formation": formation.name,
+        "formation_file": str(Path(formation_file).resolve()),
+        "formation_yaml": Path(formation_file).read_text(encoding="utf-8"),
+        "world": world.name,
+        "world_file": None if world.file is None else str(world.file.resolve()),
+        "spares": spares or {},
+        "repertoire": None if repertoire is None else str(repertoire.resolve()),
+        "settings": asdict(settings),
+    }
+    candidates = Candidates(material, symmetric=symmetric)
+    current = candidates.found[0]
+    reason = _check(current, formation, world, folder=None)
+    if reason is not None:
+        raise FormationError(f"the body as it is: {reason}", file=formation_file)
+    _claim(ReformFolder(out), inputs)
+    state = Search(candidates, formation, world, out, settings, jobs, ray, progress, log)
+    state.screen([current, *candidates.first_round()])
+    for _ in range(settings.rounds - 1):
+        state.screen(candidates.next_round(state.best(settings.widen)))
+    if not any(e > 0 for e in state.estimates.values()):
+        raise ConfigError("no candidate moved at all in screening (see reform.json)")
+    learnt = state.learn([current, *state.best(settings.top, leave_out=current.name)])
+    folder = ReformFolder(out)
+    adapted = None if repertoire is None else _adapt(repertoire, formation, folder.adaptation)
+    record = state.record(learnt, adapted, inputs, time.perf_counter() - start_time)
+    write_outputs(record, candidates, folder, log=log)
+    _write_record(folder, record)
+    return record
+
+
+class Search:
+    """The candidates of one reform and what screening and learning found for them."""
+
+    def __init__(
+        self,
+        candidates: Candidates,
+        formation: Formation,
+        world: World,
+        out: Path,
+        settings: ReformSettings,
+        jobs: int,
+        ray: str | None,
+        progress: ProgressFactory | None,
+        log: Callable[[str], None],
+    ) -> None:
+        self.candidates = candidates
+        self.formation = formation
+        self.world = world
+        self.folder = ReformFolder(out)
+        self.settings = settings
+        self.jobs = jobs
+        self.ray = ray
+        self.progress = progress
+        self.log = log
+        self.dropped: dict[str, str] = {}
+        self.estimates: dict[str, float] = {}
+        self.screen_s: dict[str, float] = {}
+
+    def job(self, candidate: Candidate, until: int | None) -> CandidateJob:
+        return CandidateJob(
+            name=candidate.name,
+            formation=self.folder.candidate(candidate.name),
+            folder=self.folder.run(candidate.name),
+            world=self.world.file,
+            seed=self.settings.seed,
+            workers=1 if self.jobs > 1 else 2,
+            until=until,
+            reference_trials=self.settings.reference_trials,
+        )
+
+    def screen(self, found: Sequence[Candidate]) -> None:
+        """Check ``found`` and let each that passes learn its first generations."""
+        ready = []
+        for candidate in found:
+            reason = _check(candidate, self.formation, self.world, folder=self.folder)
+            if reason is None:
+                ready.append(candidate)
+            else:
+                self.dropped[candidate.name] = reason
+        self.log(
+            f"qdsega reform: screening {len(ready)} candidates"
+            f" ({len(found) - len(ready)} dropped), {self.settings.screen} generations each"
+        )
+        jobs = [self.job(c, self.settings.screen) for c in ready]
+        errors = run_jobs(
+            jobs, processes=self.jobs, ray=self.ray, label="screening", progress=self.progress
+        )
+        for candidate, job, error in zip(ready, jobs, errors, strict=True):
+            if error is not None:
+                self.dropped[candidate.name] = error
+                continue
+            metrics = RunFolder(job.folder).read_metrics()
+            self.estimates[candidate.name] = float(metrics["greedy_exact_m"].max())
+            self.screen_s[candidate.name] = float(metrics["wall_s"].sum())
+
+    def best(self, count: int, *, leave_out: str | None = None) -> list[Candidate]:
+        """The ``count`` screened candidates with the highest estimates (ties: fewer moves,
+        then the first found)."""
+        ranked = sorted(
+            (c for c in self.candidates.found if c.name in self.estimates and c.name != leave_out),
+            key=lambda c: (-self.estimates[c.name], len(c.moves), c.name),
+        )
+        return ranked[:count]
+
+    def learn(self, chosen: Sequence[Candidate]) -> dict[str, dict[str, Any]]:
+        """Learn ``chosen`` to the end and evaluate each; their evaluations by name."""
+        self.log(
+            f"qdsega reform: learning {len(chosen)} candidates to the end: "
+            + ", ".join(c.name for c in chosen)
+        )
+        jobs = [self.job(c, None) for c in chosen]
+        errors = run_jobs(
+            jobs, processes=self.jobs, ray=self.ray, label="learning", progress=self.progress
+        )
+        learnt = {}
+        for candidate, job, error in zip(chosen, jobs, errors, strict=True):
+            if error is not None:
+                self.dropped[candidate.name] = error
+                continue
+            folder = RunFolder(job.folder)
+            evaluation = folder.read_evaluation()
+            assert evaluation is not None, "a learnt candidate is evaluated"
+            learnt[candidate.name] = {
+                "distance_m": evaluation["distance_m"],
+                "failure": evaluation["failure"],
+                "run": str(job.folder),
+                "preset": folder.read_summary()["preset"],
+                "wall_s": folder.read_summary()["wall_s"],
+            }
+        return learnt
+
+    def record(
+        self,
+        learnt: dict[str, dict[str, Any]],
+        adapted: dict[str, Any] | None,
+        inputs: dict[str, Any],
+        wall_s: float,
+    ) -> dict[str, Any]:
+        """Everything the reform found: each candidate, the winner, its plan."""
+        rows = []
+        for candidate in self.candidates.found:
+            rows.append(
+                {
+                    "name": candidate.name,
+                    "how": candidate.how,
+                    "moves": [_move(m) for m in candidate.moves],
+                    "units": len(candidate.arrangement.attached),
+                    "joints": len(candidate.arrangement.formation("", "").joints),
+                    "estimate_m": self.estimates.get(candidate.name),
+                    "screen_s": self.screen_s.get(candidate.name),
+                    "distance_m": learnt.get(candidate.name, {}).get("distance_m"),
+                    "learn_s": learnt.get(candidate.name, {}).get("wall_s"),
+                    "preset": learnt.get(candidate.name, {}).get("preset"),
+                    "dropped": self.dropped.get(candidate.name),
+                }
+            )
+        current = self.candidates.found[0].name
+        best = max(learnt, key=lambda n: learnt[n]["distance_m"], default=current)
+        relearnt_m = learnt.get(current, {}).get("distance_m")
+        adapted_m = None if adapted is None else adapted["distance_m"]
+        baseline = max((d for d in (relearnt_m, adapted_m) if d is not None), default=0.0)
+        reformed = best != current and learnt[best]["distance_m"] > baseline
+        winner = best if reformed else current
+        return {
+            "inputs": inputs,
+            "candidates": rows,
+            "current": {"name": current, "relearnt_m": relearnt_m, "adapted": adapted},
+            "winner": {
+                "name": winner,
+                "reformed": reformed,
+                "how": "re-formed" if reformed else _as_it_is(relearnt_m, adapted_m),
+                "distance_m": learnt[best]["distance_m"] if reformed else baseline,
+                "run": learnt.get(winner, {}).get("run"),
+                "moves": [_move(m) for m in self.candidates.by_name(winner).moves],
+            },
+            "wall_s": wall_s,
+        }
+
+
+def _as_it_is(relearnt_m: float | None, adapted_m: float | None) -> str:
+    if adapted_m is not None and (relearnt_m is None or adapted_m > relearnt_m):
+        return "as it is, adapted"
+    return "as it is, relearnt"
+
+
+def _move(move: Any) -> dict[str, Any]:
+    return {
+        "unit": move.unit,
+        "leaves": None if move.leaves is None else str(move.leaves),
+        "takes": None if move.takes is None else str(move.takes),
+    }
+
+
+def _check(
+    candidate: Candidate, original: Formation, world: World, *, folder: ReformFolder | None
+) -> str | None:
+    """Write the candidate's formation file (into ``folder``; nowhere for None) and check it as
+    ``assemble`` and ``train`` would; None, or why it is dropped."""
+    from qdsega.assembly import assemble  # trimesh and PyBullet: only where bodies are checked
+    from qdsega.simulation.reach import check_reach
+    from qdsega.training.sims import check_sim
+
+    name = original.name if candidate.how == AS_IT_IS else f"{original.name}_{candidate.name}"
+    body = candidate.arrangement.formation(name, f"{original.name} re-formed: {candidate.how}")
+    try:
+        if folder is not None:
+            file = folder.candidate(candidate.name)
+            file.parent.mkdir(parents=True, exist_ok=True)
+            moves = "; ".join(str(m) for m in candidate.moves) or "none"
+            text = formation_yaml(body, file, comment=f"{name}: {candidate.how}\nmoves: {moves}")
+            with replaced_atomically(file) as partial:
+                partial.write_text(text, encoding="utf-8")
+            body = load_formation(file)
+        check_reach(assemble(body))
+        config = resolve_config(overrides={"sim": "memo"}, formation=body)
+        check_sim(world.lights(body), config, world)
+    except QdsegaError as exc:
+        return exc.message
+    return None
+
+
+def _check_repertoire(repertoire: Path, world: World) -> None:
+    from qdsega.adaptation.repertoire import load_repertoire
+    from qdsega.training.formation_copy import load_run_world
+
+    load_repertoire(repertoire)
+    built_in = load_run_world(repertoire)
+    if built_in.name != world.name:
+        message = f"built in {built_in.name}, and this reform is in {world.name}"
+        raise RunFolderError(message, file=repertoire)
+
+
+def _adapt(repertoire: Path, formation: Formation, folder: Path) -> dict[str, Any]:
+    """The body as it is, adapted from the repertoire into ``folder`` (kept once done)."""
+    from qdsega.adaptation.adapt import RESULT, adapt
+
+    if (folder / RESULT).is_file():
+        result = json.loads((folder / RESULT).read_text(encoding="utf-8"))
+    else:
+        result = adapt(repertoire, formation, folder)
+    return {
+        "distance_m": result["distance_m"],
+        "trials": len(result["trials"]),
+        "wall_s": result["wall_s"],
+        "folder": str(folder),
+    }
+
+
+def _claim(folder: ReformFolder, inputs: dict[str, Any]) -> None:
+    """Make ``folder`` this reform's: new, or one that holds this same reform.
+
+    Raises:
+        RunFolderError: the folder holds something else, or another reform.
+    """
+    out, record = folder.path, folder.record
+    if record.is_file():
+        previous = json.loads(record.read_text(encoding="utf-8"))
+        if previous.get("inputs") != inputs:
+            message = (
+                "holds another reform (other body, world, spares or settings); choose another --out"
+            )
+            raise RunFolderError(message, file=out)
+        return
+    if out.exists() and (not out.is_dir() or any(out.iterdir())):
+        raise RunFolderError("not empty and not a reform's folder; choose another --out", file=out)
+    _write_record(folder, {"inputs": inputs})
+
+
+def _write_record(folder: ReformFolder, record: dict[str, Any]) -> None:
+    folder.path.mkdir(parents=True, exist_ok=True)
+    with replaced_atomically(folder.record) as partial:
+        partial.write_text(json.dumps(record, indent=2) + "\n", encoding="utf-8")
