@@ -33,6 +33,25 @@ task: {trial_steps: 4}
 """
 """A --config file for training runs a test can afford (seconds)."""
 
+BIPED = """\
+name: biped
+friction: {lateral: 1.0, anisotropic: [1.0, 1.0, 1.0]}
+light: {distance_m: 50.0}
+templates:
+  leg:
+    leg: {swing: swing, lift: lift}
+    units:
+      - {name: swing, unit: servo, axis: yaw, levels_deg: [-15, 15]}
+      - {name: lift, unit: servo, parent: swing, connector: back, axis: pitch,
+         levels_deg: [-35, 5]}
+units:
+  - {name: body1, unit: hub}
+  - {name: L1, template: leg, parent: body1, connector: left, side: left}
+  - {name: R1, template: leg, parent: body1, connector: right, side: right,
+     overrides: {swing: {levels_deg: [15, -15]}}}
+"""
+"""A hub with a leg on each side: five units, four joints."""
+
 
 def run_cli(
     *args: str | Path, cwd: Path | None = None, own_process: bool = False

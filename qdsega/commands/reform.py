@@ -29,6 +29,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         help="the intact body's repertoire (qdsega repertoire): the body as it is is also "
         "adapted from it",
     )  # fmt: skip
+    parser.add_argument(
+        "--config", type=Path, metavar="FILE.yaml",
+        help="settings over each candidate's own preset (keys as in qdsega train --config)",
+    )  # fmt: skip
     parser.add_argument("--out", type=Path, metavar="DIR", help="default runs/reform-NAME")
     parser.add_argument("--jobs", type=int, default=1, metavar="N", help="runs at a time")
     parser.add_argument("--ray", metavar="local|ADDRESS", help="runs as Ray tasks instead")
@@ -66,6 +70,7 @@ def run(args: argparse.Namespace) -> int:
         world_file=world,
         spares=parse_spares(args.spare),
         repertoire=args.repertoire,
+        config=args.config,
         settings=settings,
         jobs=args.jobs,
         ray=args.ray,

@@ -16,6 +16,7 @@ a unit hangs (:meth:`Arrangement.formation`):
 
 from __future__ import annotations
 
+import functools
 import math
 from collections.abc import Iterator
 from dataclasses import dataclass, field
@@ -130,6 +131,7 @@ class Arrangement:
     material: Material
     places: tuple[tuple[str, Place | None], ...]
     _children: dict[str, dict[str, str]] = field(init=False, repr=False, compare=False)
+    _places: dict[str, Place | None] = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
         children: dict[str, dict[str, str]] = {name: {} for name in self.material.units}
@@ -137,12 +139,13 @@ class Arrangement:
             if place is not None:
                 children[place.parent][place.connector] = name
         object.__setattr__(self, "_children", children)
+        object.__setattr__(self, "_places", dict(self.places))
 
     def __hash__(self) -> int:
         return hash(self.places)
 
     def place(self, unit: str) -> Place | None:
-        return dict(self.places).get(unit)
+        return self._places.get(unit)
 
     def children(self, unit: str) -> dict[str, str]:
         """The units hanging from ``unit``, by connector."""
@@ -374,10 +377,12 @@ def chain_levels(unit: PlacedUnit) -> tuple[float, ...]:
     return (0.0,) if half <= 0 else tuple(math.radians(a) for a in (-half, 0.0, half))
 
 
+@functools.lru_cache(maxsize=1024)
 def connector_matrix(connector: Connector) -> np.ndarray:
-    """The connector's frame in its unit's frame (4x4)."""
+    """The connector's frame in its unit's frame (4x4; read only, it is shared)."""
     matrix = euler_matrix(*connector.rpy_rad, axes="sxyz")
     matrix[:3, 3] = connector.xyz_m
+    matrix.setflags(write=False)
     return matrix
 
 

@@ -63,11 +63,12 @@ class Candidates:
         self.add(material.start(), AS_IT_IS)
 
     def add(self, arrangement: Arrangement, how: str) -> bool:
-        """Keep ``arrangement`` unless it is a body found already or has no working joint;
-        with the fewest moves from the body as it is, its units named as the moves leave
-        them (:func:`qdsega.reform.plan.plan`)."""
+        """Keep ``arrangement`` unless it is a body found already or (but for the body as it
+        is) has no working joint; with the fewest moves from the body as it is, its units
+        named as the moves leave them (:func:`qdsega.reform.plan.plan`)."""
         key = shape_key(arrangement, symmetric=self.symmetric)
-        if key in self._keys or not arrangement.formation("", "").joints:
+        working = bool(arrangement.formation("", "").joints) or how == AS_IT_IS
+        if key in self._keys or not working:
             return False
         self._keys.add(key)
         moves, renamed = plan(self.material.start(), arrangement)

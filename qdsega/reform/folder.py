@@ -18,6 +18,11 @@ class ReformFolder:
         """``reform.json``: the inputs first, then every candidate, the winner and its plan."""
         return self.path / "reform.json"
 
+    @property
+    def config(self) -> Path:
+        """The settings over each candidate's preset (a copy of ``--config``), if given."""
+        return self.path / "config.yaml"
+
     def candidate(self, name: str) -> Path:
         """A candidate's formation file."""
         return self.path / "candidates" / f"{name}.yaml"

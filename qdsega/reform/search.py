@@ -31,7 +31,7 @@ from qdsega.atomic import replaced_atomically
 from qdsega.description import Formation, World, load_formation, named_world
 from qdsega.description.formation_writer import formation_yaml
 from qdsega.driver import run_jobs
-from qdsega.errors import ConfigError, FormationError, QdsegaError, QdsegaWarning, RunFolderError
+from qdsega.errors import ConfigError, QdsegaError, QdsegaWarning, RunFolderError
 from qdsega.progress import ProgressFactory
 from qdsega.reform.candidates import AS_IT_IS, Candidate, Candidates
 from qdsega.reform.folder import ReformFolder
@@ -74,7 +74,8 @@ class ReformSettings:
 @dataclass(frozen=True)
 class CandidateJob:
     """A candidate's run as the driver's job: its first ``until`` generations (screening), or
-    all of them and its evaluation (``until`` None)."""
+    all of them and its evaluation (``until`` None); ``config`` sets settings over the
+    candidate's own preset (a ``--config`` file)."""
 
     name: str
     formation: Path
@@ -84,6 +85,7 @@ class CandidateJob:
     workers: int
     until: int | None
     reference_trials: int
+    config: Path | None = None
 
     def kept(self) -> bool:
         if self.until is None:
@@ -97,6 +99,7 @@ class CandidateJob:
         try:
             formation = load_formation(self.formation)
             config = resolve_config(
+                file=self.config,
                 overrides={"sim": "memo", "seed": self.seed, "workers": self.workers},
                 formation=formation,
             )
@@ -130,6 +133,7 @@ def reform(
     world_file: Path | None = None,
     spares: dict[str, int] | None = None,
     repertoire: Path | None = None,
+    config: Path | None = None,
     settings: ReformSettings = ReformSettings(),
     jobs: int = 1,
     ray: str | None = None,
@@ -158,6 +162,8 @@ def reform(
     )
     if repertoire is not None:
         _check_repertoire(repertoire, world)
+    if config is not None:
+        resolve_config(file=config, overrides={"sim": "memo"}, formation=formation)
     inputs = {
         "formation": formation.name,
         "formation_file": str(Path(formation_file).resolve()),
@@ -166,22 +172,31 @@ def reform(
         "world_file": None if world.file is None else str(world.file.resolve()),
         "spares": spares or {},
         "repertoire": None if repertoire is None else str(repertoire.resolve()),
+        "config": None if config is None else config.read_text(encoding="utf-8"),
         "settings": asdict(settings),
     }
     candidates = Candidates(material, symmetric=symmetric)
     current = candidates.found[0]
-    reason = _check(current, formation, world, folder=None)
-    if reason is not None:
-        raise FormationError(f"the body as it is: {reason}", file=formation_file)
-    _claim(ReformFolder(out), inputs)
-    state = Search(candidates, formation, world, out, settings, jobs, ray, progress, log)
-    state.screen([current, *candidates.first_round()])
+    from qdsega.assembly import assemble  # trimesh and PyBullet: only once the input is read
+    from qdsega.simulation.reach import check_reach
+
+    check_reach(assemble(formation))
+    first = [current, *candidates.first_round()]
+    problems = {c.name: _problem(c, formation, world) for c in first}
+    if all(problems.values()):
+        raise ConfigError(f"no candidate can move ({current.name}: {problems[current.name]})")
+    folder = ReformFolder(out)
+    _claim(folder, inputs)
+    if config is not None:
+        with replaced_atomically(folder.config) as partial:
+            partial.write_text(inputs["config"], encoding="utf-8")
+    state = Search(candidates, formation, world, folder, settings, jobs, ray, progress, log)
+    state.screen(first, problems)
     for _ in range(settings.rounds - 1):
         state.screen(candidates.next_round(state.best(settings.widen)))
     if not any(e > 0 for e in state.estimates.values()):
         raise ConfigError("no candidate moved at all in screening (see reform.json)")
     learnt = state.learn([current, *state.best(settings.top, leave_out=current.name)])
-    folder = ReformFolder(out)
     adapted = None if repertoire is None else _adapt(repertoire, formation, folder.adaptation)
     record = state.record(learnt, adapted, inputs, time.perf_counter() - start_time)
     write_outputs(record, candidates, folder, log=log)
@@ -197,7 +212,7 @@ class Search:
         candidates: Candidates,
         formation: Formation,
         world: World,
-        out: Path,
+        folder: ReformFolder,
         settings: ReformSettings,
         jobs: int,
         ray: str | None,
@@ -207,7 +222,7 @@ class Search:
         self.candidates = candidates
         self.formation = formation
         self.world = world
-        self.folder = ReformFolder(out)
+        self.folder = folder
         self.settings = settings
         self.jobs = jobs
         self.ray = ray
@@ -227,14 +242,22 @@ class Search:
             workers=1 if self.jobs > 1 else 2,
             until=until,
             reference_trials=self.settings.reference_trials,
+            config=self.folder.config if self.folder.config.is_file() else None,
         )
 
-    def screen(self, found: Sequence[Candidate]) -> None:
-        """Check ``found`` and let each that passes learn its first generations."""
+    def screen(
+        self, found: Sequence[Candidate], problems: dict[str, str | None] | None = None
+    ) -> None:
+        """Check ``found`` (unless ``problems`` says already what is wrong with each), write
+        the formation file of each that passes and let it learn its first generations."""
         ready = []
         for candidate in found:
-            reason = _check(candidate, self.formation, self.world, folder=self.folder)
+            if problems is not None:
+                reason = problems[candidate.name]
+            else:
+                reason = _problem(candidate, self.formation, self.world)
             if reason is None:
+                _write(candidate, self.formation, self.folder)
                 ready.append(candidate)
             else:
                 self.dropped[candidate.name] = reason
@@ -352,32 +375,41 @@ def _move(move: Any) -> dict[str, Any]:
     }
 
 
-def _check(
-    candidate: Candidate, original: Formation, world: World, *, folder: ReformFolder | None
-) -> str | None:
-    """Write the candidate's formation file (into ``folder``; nowhere for None) and check it as
-    ``assemble`` and ``train`` would; None, or why it is dropped."""
+def _body(candidate: Candidate, original: Formation) -> Formation:
+    """The candidate as a formation, named after the original (the original's own name for the
+    body as it is)."""
+    name = original.name if candidate.how == AS_IT_IS else f"{original.name}_{candidate.name}"
+    return candidate.arrangement.formation(name, f"{original.name} re-formed: {candidate.how}")
+
+
+def _problem(candidate: Candidate, original: Formation, world: World) -> str | None:
+    """Why the candidate cannot move, checked as ``assemble`` and ``train`` would check it;
+    None where nothing is wrong."""
     from qdsega.assembly import assemble  # trimesh and PyBullet: only where bodies are checked
     from qdsega.simulation.reach import check_reach
     from qdsega.training.sims import check_sim
 
-    name = original.name if candidate.how == AS_IT_IS else f"{original.name}_{candidate.name}"
-    body = candidate.arrangement.formation(name, f"{original.name} re-formed: {candidate.how}")
+    body = _body(candidate, original)
+    if not body.joints:
+        return "no working joint"
     try:
-        if folder is not None:
-            file = folder.candidate(candidate.name)
-            file.parent.mkdir(parents=True, exist_ok=True)
-            moves = "; ".join(str(m) for m in candidate.moves) or "none"
-            text = formation_yaml(body, file, comment=f"{name}: {candidate.how}\nmoves: {moves}")
-            with replaced_atomically(file) as partial:
-                partial.write_text(text, encoding="utf-8")
-            body = load_formation(file)
         check_reach(assemble(body))
         config = resolve_config(overrides={"sim": "memo"}, formation=body)
         check_sim(world.lights(body), config, world)
     except QdsegaError as exc:
         return exc.message
     return None
+
+
+def _write(candidate: Candidate, original: Formation, folder: ReformFolder) -> None:
+    """The candidate's formation file, headed by how it was made."""
+    body = _body(candidate, original)
+    file = folder.candidate(candidate.name)
+    file.parent.mkdir(parents=True, exist_ok=True)
+    moves = "; ".join(str(m) for m in candidate.moves) or "none"
+    text = formation_yaml(body, file, comment=f"{body.name}: {candidate.how}\nmoves: {moves}")
+    with replaced_atomically(file) as partial:
+        partial.write_text(text, encoding="utf-8")
 
 
 def _check_repertoire(repertoire: Path, world: World) -> None:
