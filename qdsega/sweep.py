@@ -36,6 +36,7 @@ from typing import Any
 import yaml
 
 from qdsega.description import (
+    Formation,
     World,
     load_formation,
     load_world,
@@ -142,9 +143,32 @@ def read_grid(file: Path, out: Path) -> list[SweepRun]:
             except ConfigError as exc:
                 raise document.error(("configs", name), str(exc)) from None
     worlds = _worlds(document, grid, sim)
+    try:
+        return grid_runs(formations, worlds, presets, settings_of, seeds, sim, trials, out)
+    except ConfigError as exc:
+        raise ConfigError(exc.message, file=file) from None
+
+
+def grid_runs(
+    formations: Sequence[tuple[Path, Formation]],
+    worlds: Sequence[World | None],
+    presets: Sequence[str | None],
+    configs: dict[str, dict[str, Any]],
+    seeds: Sequence[int],
+    sim: str,
+    reference_trials: int | None,
+    out: Path,
+) -> list[SweepRun]:
+    """Every run of the grid formations x worlds x presets x configs x seeds (a preset None:
+    each formation's own), with each config's settings written to ``OUT/configs/NAME.yaml``;
+    everything is read and checked already.
+
+    Raises:
+        ConfigError: two formations share a file name (their runs would share a folder).
+    """
     runs = []
     for (path, formation), world, preset, name, seed in itertools.product(
-        formations, worlds, presets, settings_of, seeds
+        formations, worlds, presets, configs, seeds
     ):
         preset = preset or default_preset(formation, sim)
         place = "" if world is None or world.file is None else f"-{world.file.stem}"
@@ -152,13 +176,14 @@ def read_grid(file: Path, out: Path) -> list[SweepRun]:
         config_file = out / "configs" / f"{name}.yaml"
         where = None if world is None or world.file is None else world.file.resolve()
         runs.append(
-            SweepRun(label, path.resolve(), where, sim, preset, name, config_file, seed, trials)
+            SweepRun(
+                label, path.resolve(), where, sim, preset, name, config_file, seed, reference_trials
+            )
         )
     names = [r.name for r in runs]
     if len(set(names)) != len(names):
-        message = "two formations share a file name: their runs would share a folder"
-        raise ConfigError(message, file=file)
-    for name, settings in settings_of.items():  # written once everything is checked
+        raise ConfigError("two formations share a file name: their runs would share a folder")
+    for name, settings in configs.items():  # written once everything is checked
         (out / "configs").mkdir(parents=True, exist_ok=True)
         text = yaml.safe_dump(settings, sort_keys=True)
         (out / "configs" / f"{name}.yaml").write_text(text, encoding="utf-8")

@@ -48,10 +48,12 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 def run(args: argparse.Namespace) -> int:
     # Imported here: stills start PyBullet, which the other commands need not load.
     from qdsega.analysis.render import final_still
+    from qdsega.description import load_formation, named_world, resolve_formation
     from qdsega.match import SCREEN, best_bodies, match_grid, matrix, write_matrix
     from qdsega.progress import ProgressLine
     from qdsega.simulation.camera import CameraConfig
-    from qdsega.sweep import read_grid, run_sweep
+    from qdsega.sweep import grid_runs, run_sweep
+    from qdsega.training.config import resolve_config
     from qdsega.yaml_reader import load_yaml
 
     if args.jobs < 1:
@@ -62,19 +64,28 @@ def run(args: argparse.Namespace) -> int:
         if not isinstance(data, dict):
             raise ConfigError("expected a mapping of settings", file=args.config)
         settings = _merged(settings, data)
+    formations = [
+        (resolve_formation(f), load_formation(resolve_formation(f))) for f in args.formations
+    ]
+    worlds = [named_world(w) for w in args.world]
+    for _, formation in formations:  # every setting checked before anything is written
+        resolve_config(
+            preset=args.preset, overrides={**settings, "sim": "memo"}, formation=formation
+        )
     out = args.out or Path("runs") / "match"
-    out.mkdir(parents=True, exist_ok=True)
-    grid = out / "grid.yaml"
-    text = match_grid(
-        [str(Path(f).resolve()) if Path(f).is_file() else str(f) for f in args.formations],
-        [str(Path(w).resolve()) if Path(w).is_file() else str(w) for w in args.world],
+    runs = grid_runs(
+        formations, worlds, [args.preset], {"match": settings}, args.seeds, "memo",
+        args.reference_trials, out,
+    )  # fmt: skip
+    text = match_grid(  # the grid as qdsega sweep takes it, for the record
+        [str(path) for path, _ in formations],
+        [str(w.file) for w in worlds],
         seeds=args.seeds,
         preset=args.preset,
         settings=settings,
         reference_trials=args.reference_trials,
     )
-    grid.write_text(text, encoding="utf-8")
-    runs = read_grid(grid, out)
+    (out / "grid.yaml").write_text(text, encoding="utf-8")
     print(f"qdsega match: {len(runs)} runs -> {out}", flush=True)
     rows = run_sweep(runs, out, jobs=args.jobs, ray=args.ray, progress=ProgressLine)
     cells = matrix(rows)
