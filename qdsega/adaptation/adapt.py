@@ -1,7 +1,7 @@
 """Trial and error on a changed body, guided by the intact body's repertoire (IT&E).
 
 Every elite gait of the repertoire is mapped onto the changed body joint by joint
-(:class:`qdsega.training.reconfiguration.JointMapping`: matched joints at the nearest level,
+(:class:`qdsega.training.joint_mapping.JointMapping`: matched joints at the nearest level,
 added ones at rest, dropped and locked ones gone). Then, one exact trial at a time, the gait of
 the highest upper confidence bound of the trial model (:class:`qdsega.adaptation.trial_model.
 TrialModel`, the archive's fitness as its prior mean) is played on the changed body, and the
@@ -37,7 +37,8 @@ from qdsega.locomotion.rules import ExactRules
 from qdsega.progress import ProgressFactory
 from qdsega.training.config import TrainingConfig, resolve_config
 from qdsega.training.formation_copy import load_run_formation, load_run_world
-from qdsega.training.reconfiguration import JointMapping, WarmStart
+from qdsega.training.joint_mapping import JointMapping
+from qdsega.training.reconfiguration import WarmStart
 
 DEFAULT_TRIALS = 20
 """Exact trials an adaptation may run (IT&E's budget)."""

@@ -53,7 +53,7 @@ from qdsega.locomotion.rules import ExactRules
 from qdsega.progress import ProgressFactory
 from qdsega.training.config import TrainingConfig, read_run_config
 from qdsega.training.formation_copy import load_run_formation, load_run_world
-from qdsega.training.reconfiguration import JointMapping
+from qdsega.training.joint_mapping import JointMapping
 from qdsega.training.run_folder import RunFolder
 from qdsega.training.sims import check_sim
 

@@ -21,7 +21,7 @@ from qdsega.analysis.plots import FIGURES, body_in_world
 from qdsega.atomic import replaced_atomically
 from qdsega.errors import RunFolderError
 from qdsega.training.formation_copy import read_formation_record
-from qdsega.training.reconfiguration import describe
+from qdsega.training.joint_mapping import describe
 from qdsega.training.run_folder import RunFolder
 
 _MEDIA = {".png": "image/png", ".gif": "image/gif", ".mp4": "video/mp4"}

@@ -33,7 +33,7 @@ def run(args: argparse.Namespace) -> int:
     # Imported here: it starts PyBullet, which the other commands need not load.
     from qdsega.analysis.evaluation import evaluate_on, evaluate_run
     from qdsega.progress import ProgressLine
-    from qdsega.training.reconfiguration import describe
+    from qdsega.training.joint_mapping import describe
     from qdsega.training.run_folder import RunFolder
 
     if args.formation is not None:

@@ -37,9 +37,13 @@ from qdsega.reform.candidates import AS_IT_IS, Candidate, Candidates
 from qdsega.reform.folder import ReformFolder
 from qdsega.reform.material import material_of
 from qdsega.reform.outputs import write_outputs
-from qdsega.training.config import SCREENING_GENERATIONS, resolve_config
+from qdsega.training.config import SCREENING_GENERATIONS, read_run_config, resolve_config
 from qdsega.training.run import TrainingInterrupted, train_or_resume, train_until
 from qdsega.training.run_folder import RunFolder
+
+JOB_START_S = 5.0
+"""What a candidate's run spends before its first generation (s): its process, the body in
+PyBullet, its workers; added to the time its generations take for the estimate of time left."""
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -264,6 +268,7 @@ class Search:
         self.log(
             f"qdsega reform: screening {len(ready)} candidates"
             f" ({len(found) - len(ready)} dropped), {self.settings.screen} generations each"
+            + self._about(len(ready) * self._screen_s())
         )
         jobs = [self.job(c, self.settings.screen) for c in ready]
         errors = run_jobs(
@@ -277,6 +282,18 @@ class Search:
             self.estimates[candidate.name] = float(metrics["greedy_exact_m"].max())
             self.screen_s[candidate.name] = float(metrics["wall_s"].sum())
 
+    def _screen_s(self) -> float:
+        """A candidate's screening so far, on average (s; 0 before any), and its start."""
+        if not self.screen_s:
+            return 0.0
+        return sum(self.screen_s.values()) / len(self.screen_s) + JOB_START_S
+
+    def _about(self, work_s: float) -> str:
+        """``work_s`` of one process's work, spread over the jobs, in words ("" unknown)."""
+        if work_s <= 0:
+            return ""
+        return f"; about {math.ceil(work_s / self.jobs / 60)} min"
+
     def best(self, count: int, *, leave_out: str | None = None) -> list[Candidate]:
         """The ``count`` screened candidates with the highest estimates (ties: fewer moves,
         then the first found)."""
@@ -288,9 +305,15 @@ class Search:
 
     def learn(self, chosen: Sequence[Candidate]) -> dict[str, dict[str, Any]]:
         """Learn ``chosen`` to the end and evaluate each; their evaluations by name."""
+        rest = [
+            read_run_config(self.folder.run(c.name)).agent.genetic.generations
+            - self.settings.screen
+            for c in chosen
+        ]
         self.log(
             f"qdsega reform: learning {len(chosen)} candidates to the end: "
             + ", ".join(c.name for c in chosen)
+            + self._about(sum(max(r, 0) for r in rest) / self.settings.screen * self._screen_s())
         )
         jobs = [self.job(c, None) for c in chosen]
         errors = run_jobs(

@@ -37,7 +37,8 @@ from qdsega.training.formation_copy import (
     world_sha256,
 )
 from qdsega.training.interrupt import InterruptWatch
-from qdsega.training.reconfiguration import JointMapping, WarmStart, warm_record, warm_state
+from qdsega.training.joint_mapping import JointMapping
+from qdsega.training.reconfiguration import WarmStart, warm_record, warm_state
 from qdsega.training.run_folder import METRIC_COLUMNS, RunFolder
 from qdsega.training.run_lock import run_lock
 from qdsega.training.sims import (

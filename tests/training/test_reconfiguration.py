@@ -12,7 +12,8 @@ from qdsega.agent.policy import GreedyPolicy
 from qdsega.agent.space import ExplorationSpace
 from qdsega.description import load_formation
 from qdsega.description.shipped import UNITS_DIR
-from qdsega.training.reconfiguration import JointMapping, describe, warm_state
+from qdsega.training.joint_mapping import JointMapping, describe
+from qdsega.training.reconfiguration import warm_state
 
 CHAIN = """\
 name: {name}
