@@ -89,10 +89,11 @@ class Candidates:
         return self.found[before:]
 
     def next_round(self, best: Sequence[Candidate]) -> list[Candidate]:
-        """Every body one more move away from each of ``best``."""
+        """Every body one more attaching move away from each of ``best`` (setting a part
+        aside is tried in the first round, on the body as it is)."""
         before = len(self.found)
         for candidate in best:
-            for move in moves_from(candidate.arrangement):
+            for move in moves_from(candidate.arrangement, set_aside=False):
                 self.add(candidate.arrangement.moved(move), MOVED)
         return self.found[before:]
 
@@ -118,9 +119,9 @@ def parts(arrangement: Arrangement) -> list[str]:
     ]
 
 
-def moves_from(arrangement: Arrangement) -> Iterator[Move]:
+def moves_from(arrangement: Arrangement, *, set_aside: bool = True) -> Iterator[Move]:
     """The moves tried from ``arrangement``: a part to a free connector of a trunk unit, or
-    set aside; a part set aside back onto such a connector."""
+    (``set_aside``) set aside; a part set aside back onto such a connector."""
     material = arrangement.material
     targets = [p for p in arrangement.free() if material.is_trunk(p.parent)]
     for part in parts(arrangement):
@@ -129,7 +130,7 @@ def moves_from(arrangement: Arrangement) -> Iterator[Move]:
             move = Move(part, place, target)
             if arrangement.can(move):
                 yield move
-        if place is not None:
+        if place is not None and set_aside:
             yield Move(part, place, None)
 
 
