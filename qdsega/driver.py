@@ -22,6 +22,7 @@ from collections.abc import Callable, Iterator, Sequence
 from concurrent.futures import ProcessPoolExecutor, as_completed
 from typing import Protocol
 
+from qdsega.errors import QdsegaError
 from qdsega.progress import ProgressFactory
 from qdsega.training.run import TrainingInterrupted
 
@@ -45,6 +46,12 @@ class Job(Protocol):
     def kept(self) -> bool:
         """Whether it was finished before (the driver counts it done at once)."""
         ...
+
+
+def error_line(exc: Exception) -> str:
+    """A job's error in one line: a user's mistake as the command line words it, anything else
+    with its type."""
+    return str(exc) if isinstance(exc, QdsegaError) else f"{type(exc).__name__}: {exc}"
 
 
 class Stopped(KeyboardInterrupt):

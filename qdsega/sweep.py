@@ -43,8 +43,8 @@ from qdsega.description import (
     named_world,
     resolve_formation,
 )
-from qdsega.driver import run_jobs
-from qdsega.errors import ConfigError, QdsegaError, WorldError
+from qdsega.driver import error_line, run_jobs
+from qdsega.errors import ConfigError, WorldError
 from qdsega.progress import ProgressFactory
 from qdsega.training.config import SIMULATORS, default_preset, resolve_config
 from qdsega.training.run import TrainingInterrupted, train_or_resume
@@ -257,8 +257,7 @@ def _train_and_evaluate(run: SweepRun, folder: Path) -> str | None:
     except TrainingInterrupted:
         raise
     except Exception as exc:  # a failed run is a row of the table; the others go on
-        detail = str(exc) if isinstance(exc, QdsegaError) else f"{type(exc).__name__}: {exc}"
-        return f"{step}: {detail}"
+        return f"{step}: {error_line(exc)}"
     return None
 
 

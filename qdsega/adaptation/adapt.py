@@ -5,8 +5,8 @@ Every elite gait of the repertoire is mapped onto the changed body joint by join
 added ones at rest, dropped and locked ones gone). Then, one exact trial at a time, the gait of
 the highest upper confidence bound of the trial model (:class:`qdsega.adaptation.trial_model.
 TrialModel`, the archive's fitness as its prior mean) is played on the changed body, and the
-model learns what it did; the search stops when a trial reaches ``STOP_SHARE`` of the best
-predicted fitness, or after ``trials`` trials. Nothing is random: the same repertoire and body
+model learns what it did; the search stops when no untried gait is predicted to beat the best
+trial, or after ``trials`` trials. Nothing is random: the same repertoire and body
 give the same trials.
 
 An adaptation folder holds ``adapt.json`` (the trials, the gait found, why it stopped, the
@@ -27,7 +27,7 @@ from typing import Any
 import numpy as np
 
 from qdsega.adaptation.repertoire import load_repertoire
-from qdsega.adaptation.trial_model import LENGTH_SCALE, STOP_SHARE, TrialModel
+from qdsega.adaptation.trial_model import LENGTH_SCALE, TrialModel
 from qdsega.agent.learner import LearnerState
 from qdsega.agent.policy import SequencePolicy
 from qdsega.atomic import replaced_atomically
@@ -167,7 +167,7 @@ def adapt(
     mean, _ = model.posterior()
     best = int(np.argmax(model.observed))
     found = model.tried[best]
-    reached = max(model.observed) >= STOP_SHARE * float(np.max(mean))
+    settled = model.settled()
     result = {
         "repertoire": str(repertoire.resolve()),
         "intact": mapped.record["formation"],
@@ -180,8 +180,8 @@ def adapt(
         "trial_found": best + 1,
         "cell": int(cells[found]),
         "gait": gaits[found].tolist(),
-        "stopped": f"a trial reached {STOP_SHARE:.0%} of the best predicted"
-        if reached
+        "stopped": "no untried gait was predicted to beat the best trial"
+        if settled
         else f"after {len(played)} trials",
         "best_predicted_m": float(np.max(mean)),
         "wall_s": time.perf_counter() - start,

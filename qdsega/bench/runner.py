@@ -9,7 +9,6 @@ error, the others go on, and the report leaves it out.
 
 from __future__ import annotations
 
-import traceback
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -20,7 +19,7 @@ from qdsega.bench.report import provenance, write_report
 from qdsega.bench.runs import BenchRun, bench_runs
 from qdsega.bench.tasks import BenchTask
 from qdsega.bench.throughput import throughput
-from qdsega.driver import run_jobs
+from qdsega.driver import error_line, run_jobs
 from qdsega.progress import ProgressFactory
 from qdsega.training.run import TrainingInterrupted
 
@@ -53,8 +52,7 @@ class BenchJob:
         except TrainingInterrupted:
             raise
         except Exception as exc:  # a failed run is reported, not fatal
-            lines = traceback.format_exception_only(exc)
-            return lines[-1].strip() if lines else repr(exc)
+            return error_line(exc)
 
 
 def run_all(

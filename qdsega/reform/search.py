@@ -30,7 +30,7 @@ from typing import Any
 from qdsega.atomic import replaced_atomically
 from qdsega.description import Formation, World, load_formation, named_world
 from qdsega.description.formation_writer import formation_yaml
-from qdsega.driver import run_jobs
+from qdsega.driver import error_line, run_jobs
 from qdsega.errors import ConfigError, QdsegaError, QdsegaWarning, RunFolderError
 from qdsega.progress import ProgressFactory
 from qdsega.reform.candidates import AS_IT_IS, Candidate, Candidates
@@ -38,7 +38,12 @@ from qdsega.reform.folder import ReformFolder
 from qdsega.reform.material import material_of
 from qdsega.reform.outputs import write_outputs
 from qdsega.training.config import SCREENING_GENERATIONS, read_run_config, resolve_config
-from qdsega.training.run import TrainingInterrupted, train_or_resume, train_until
+from qdsega.training.run import (
+    TrainingInterrupted,
+    completed_generations,
+    train_or_resume,
+    train_until,
+)
 from qdsega.training.run_folder import RunFolder
 
 JOB_START_S = 5.0
@@ -94,7 +99,10 @@ class CandidateJob:
     def kept(self) -> bool:
         if self.until is None:
             return (self.folder / RunFolder.EVALUATION).is_file()
-        return RunFolder(self.folder).finished or _learnt(self.folder) >= self.until
+        folder = RunFolder(self.folder)
+        return folder.finished or (
+            folder.started and completed_generations(self.folder) >= self.until
+        )
 
     def __call__(self) -> str | None:
         from qdsega.analysis.evaluation import evaluate_run  # starts PyBullet: in the job
@@ -119,15 +127,8 @@ class CandidateJob:
         except TrainingInterrupted:
             raise
         except Exception as exc:  # a candidate that fails is dropped; the others go on
-            return str(exc) if isinstance(exc, QdsegaError) else f"{type(exc).__name__}: {exc}"
+            return error_line(exc)
         return None
-
-
-def _learnt(folder: Path) -> int:
-    """Generations a candidate's run has learnt, from its metrics (0 before the first)."""
-    if not (folder / RunFolder.METRICS).is_file():
-        return 0
-    return len(RunFolder(folder).read_metrics()["generation"])
 
 
 def reform(
