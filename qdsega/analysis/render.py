@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from collections.abc import Iterator
 from contextlib import contextmanager
 from pathlib import Path
@@ -14,7 +15,7 @@ from qdsega.analysis.video import VIDEO_SUFFIXES, write_video
 from qdsega.description import Formation, World
 from qdsega.errors import ConfigError, FormationError
 from qdsega.locomotion.env import LocomotionEnv, replay_postures, rules_env
-from qdsega.simulation.camera import CameraConfig
+from qdsega.simulation.camera import CameraConfig, body_extent_m
 from qdsega.training.formation_copy import load_run_formation, load_run_world
 from qdsega.training.run_folder import RunFolder
 
@@ -61,12 +62,23 @@ def final_still(run: Path, camera: CameraConfig) -> np.ndarray:
 def rest_still(
     formation: Formation, camera: CameraConfig, *, world: World | None = None
 ) -> np.ndarray:
-    """The body at rest where a trial starts, (height, width, 3) uint8: a picture of its
-    shape."""
+    """The body at rest where a trial starts, (height, width, 3) uint8, seen from behind its
+    root unit (not along its heading, as a trial is filmed): pictures of the bodies a root
+    unit keeps show them in one frame."""
     env = LocomotionEnv(formation=formation, render_mode="rgb_array", camera=camera, world=world)
     try:
         env.reset()
-        return env.render()  # type: ignore[return-value]
+        centres, _ = env.sim.unit_states()
+        _, (x, y, z, w) = env.sim.base_pose()
+        return env.sim.camera_image(
+            width=camera.width,
+            height=camera.height,
+            target_m=(*centres[:, :2].mean(axis=0), 0.05),
+            view_yaw_rad=math.atan2(2.0 * (w * z + x * y), 1.0 - 2.0 * (y * y + z * z)),
+            distance_m=camera.distance_for(body_extent_m(centres)),
+            pitch_rad=camera.pitch_rad,
+            fov_deg=camera.fov_deg,
+        )
     finally:
         env.close()
 
