@@ -152,7 +152,7 @@ def reform(
             no unit folder defines.
         WorldError: an unreadable world.
         RunFolderError: ``out`` holds another reform; ``repertoire`` is not a repertoire, or
-            was built in another world.
+            was built in another world; FormationError: the body cannot be adapted from it.
         ConfigError: bad settings, or no candidate moves at all.
     """
     start_time = time.perf_counter()
@@ -166,7 +166,7 @@ def reform(
         and abs(math.sin(world.lights(formation).light.bearing_rad)) < 1e-9
     )
     if repertoire is not None:
-        _check_repertoire(repertoire, world)
+        _check_repertoire(repertoire, formation, world)
     if config is not None:
         resolve_config(file=config, overrides={"sim": "memo"}, formation=formation)
     inputs = {
@@ -436,11 +436,17 @@ def _write(candidate: Candidate, original: Formation, folder: ReformFolder) -> N
         partial.write_text(text, encoding="utf-8")
 
 
-def _check_repertoire(repertoire: Path, world: World) -> None:
-    from qdsega.adaptation.repertoire import load_repertoire
+def _check_repertoire(repertoire: Path, formation: Formation, world: World) -> None:
+    """Refuse a repertoire the body cannot be adapted from, before anything is written.
+
+    Raises:
+        RunFolderError: not a repertoire, or one built in another world.
+        FormationError: no joint in common with the body, or no gait that walks.
+    """
+    from qdsega.adaptation.adapt import MappedRepertoire
     from qdsega.training.formation_copy import load_run_world
 
-    load_repertoire(repertoire)
+    MappedRepertoire.of(repertoire, formation)
     built_in = load_run_world(repertoire)
     if built_in.name != world.name:
         message = f"built in {built_in.name}, and this reform is in {world.name}"

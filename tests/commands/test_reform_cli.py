@@ -31,9 +31,13 @@ def test_a_killed_reform_keeps_what_it_finished_and_ends_with_everything(
     biped: tuple[Path, Path], tmp_path: Path
 ):
     body, config = biped
+    repertoire = tmp_path / "repertoire"  # a body whose legs L1 and R1 the biped has
+    built = run_cli("repertoire", "quadruped", "--fill", "exact", "--evaluations", "32",
+                    "--cells", "8", "--workers", "1", "--out", repertoire)  # fmt: skip
+    assert built.returncode == 0, built.stderr
     out = tmp_path / "reform"
     args = ("reform", body, "--config", config, "--screen", "1", "--rounds", "1", "--top", "1",
-            "--jobs", "2", "--out", out)  # fmt: skip
+            "--repertoire", repertoire, "--jobs", "2", "--out", out)  # fmt: skip
     process = start_cli(*args)
     first = out / "runs" / "c00" / "metrics.csv"
     stop_when(process, first.is_file, signal.SIGKILL)
@@ -47,6 +51,8 @@ def test_a_killed_reform_keeps_what_it_finished_and_ends_with_everything(
     names = [row["name"] for row in record["candidates"]]
     assert names == ["c00", "c01", "c02", "c03"]  # as the candidate test finds them by hand
     assert all(row["estimate_m"] is not None for row in record["candidates"])
+    adapted = record["current"]["adapted"]
+    assert adapted["distance_m"] >= 0 and (out / "adapt" / "adapt.json").is_file()
     learnt = [row["name"] for row in record["candidates"] if row["distance_m"] is not None]
     assert learnt[0] == "c00" and len(learnt) == 2  # the body as it is, and the best other
     winner = record["winner"]
@@ -95,6 +101,7 @@ def test_bad_input_is_one_line_and_writes_nothing(biped: tuple[Path, Path], tmp_
         "no such file, nor a shipped formation": ("--formation", "nope"),
         "cannot reach level 1 (90 deg): unit L1_lift hits unit body1": ("--formation", blocked),
         "no such file, nor a shipped world": ("--world", "moon"),
+        "not a repertoire": ("--repertoire", tmp_path),
     }
     for message, (option, value) in cases.items():
         out = tmp_path / "out"
