@@ -14,6 +14,7 @@ from qdsega.commands import (
     adapt,
     assemble,
     bench,
+    design,
     evaluate,
     match,
     plot,
@@ -38,7 +39,8 @@ ShowWarning = Callable[[Warning | str, type[Warning], str, int, TextIO | None, s
 """The signature of ``warnings.showwarning``."""
 
 COMMANDS = (
-    assemble, train, evaluate, plot, render, report, sweep, match, bench, repertoire, adapt, reform
+    assemble, train, evaluate, plot, render, report, sweep, match, bench, repertoire, adapt,
+    reform, design,
 )  # fmt: skip
 """Each module provides ``NAME``, ``HELP``, ``add_arguments(parser)`` and ``run(args) -> int``."""
 

@@ -15,11 +15,7 @@ HELP = (
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    from qdsega.reform.search import ReformSettings
-
-    defaults = ReformSettings()
     parser.add_argument("formation", metavar="FORMATION", help="the body now: a file or a name")
-    parser.add_argument("--world", metavar="WORLD", help="a world file or shipped name (flat)")
     parser.add_argument(
         "--spare", action="append", default=[], metavar="TYPE=N",
         help="spare units it may use besides its own, e.g. --spare servo=2 (repeatable)",
@@ -29,11 +25,20 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         help="the intact body's repertoire (qdsega repertoire): the body as it is is also "
         "adapted from it",
     )  # fmt: skip
+    add_search_arguments(parser, out="runs/reform-NAME[-WORLD]")
+
+
+def add_search_arguments(parser: argparse.ArgumentParser, *, out: str) -> None:
+    """The options of a search for a body, ``reform``'s and ``design``'s."""
+    from qdsega.reform.settings import ReformSettings
+
+    defaults = ReformSettings()
+    parser.add_argument("--world", metavar="WORLD", help="a world file or shipped name (flat)")
     parser.add_argument(
         "--config", type=Path, metavar="FILE.yaml",
         help="settings over each candidate's own preset (keys as in qdsega train --config)",
     )  # fmt: skip
-    parser.add_argument("--out", type=Path, metavar="DIR", help="default runs/reform-NAME")
+    parser.add_argument("--out", type=Path, metavar="DIR", help=f"default {out}")
     parser.add_argument("--jobs", type=int, default=1, metavar="N", help="runs at a time")
     parser.add_argument("--ray", metavar="local|ADDRESS", help="runs as Ray tasks instead")
     parser.add_argument("--seed", type=int, default=defaults.seed, metavar="S")
@@ -52,40 +57,67 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    from qdsega.description import resolve_formation
+    from qdsega.reform.material import parse_units
+
+    formation = resolve_formation(args.formation)
+    spares = parse_units(args.spare)
+    out = args.out or Path("runs") / f"reform-{formation.stem}{world_suffix(args.world)}"
+    record = search(args, formation, out, spares=spares, repertoire=args.repertoire)
+    winner = record["winner"]
+    verdict = (
+        f"re-form into {winner['name']} in {len(winner['moves'])} moves"
+        if winner["reformed"]
+        else f"keep the body ({winner['how']})"
+    )
+    print_verdict(record, verdict, out)
+    return 0
+
+
+def world_suffix(world: str | None) -> str:
+    """``-WORLD`` for a default output folder's name ("" for the flat plane)."""
+    from qdsega.description import resolve_world
+
+    return "" if world is None else f"-{resolve_world(world).stem}"
+
+
+def search(
+    args: argparse.Namespace,
+    formation: Path,
+    out: Path,
+    *,
+    spares: dict[str, int] | None = None,
+    repertoire: Path | None = None,
+) -> dict:
+    """Run the search the options ``args`` describe (:func:`qdsega.reform.search.reform`)."""
     # Imported here: the search starts PyBullet, which the other commands need not load.
-    from qdsega.description import resolve_formation, resolve_world
+    from qdsega.description import resolve_world
     from qdsega.progress import ProgressLine
-    from qdsega.reform.folder import ReformFolder
-    from qdsega.reform.material import parse_spares
-    from qdsega.reform.search import ReformSettings, reform
+    from qdsega.reform.search import reform
+    from qdsega.reform.settings import ReformSettings
 
     settings = ReformSettings(seed=args.seed, screen=args.screen, rounds=args.rounds, top=args.top)
-    formation = resolve_formation(args.formation)
-    world = None if args.world is None else resolve_world(args.world)
-    place = "" if world is None else f"-{world.stem}"
-    out = args.out or Path("runs") / f"reform-{formation.stem}{place}"
-    record = reform(
+    return reform(
         formation,
         out=out,
-        world_file=world,
-        spares=parse_spares(args.spare),
-        repertoire=args.repertoire,
+        world_file=None if args.world is None else resolve_world(args.world),
+        spares=spares,
+        repertoire=repertoire,
         config=args.config,
         settings=settings,
         jobs=args.jobs,
         ray=args.ray,
         progress=ProgressLine,
     )
-    winner = record["winner"]
+
+
+def print_verdict(record: dict, verdict: str, out: Path) -> None:
+    """The one line a search prints at its end."""
+    from qdsega.reform.folder import ReformFolder
+
     folder = ReformFolder(out)
-    verdict = (
-        f"re-form into {winner['name']} in {len(winner['moves'])} moves"
-        if winner["reformed"]
-        else f"keep the body ({winner['how']})"
-    )
     print(
-        f"{record['inputs']['formation']}: {verdict}, {winner['distance_m']:.4f} m with exact "
-        f"physics ({record['wall_s'] / 60:.1f} min) -> {folder.summary}, {folder.plan}, "
-        f"{folder.page}"
+        f"{record['inputs']['formation']}: {verdict}, {record['winner']['distance_m']:.4f} m "
+        f"with exact physics ({record['wall_s'] / 60:.1f} min) -> {folder.summary}, "
+        f"{folder.plan}, {folder.page}"
     )
-    return 0

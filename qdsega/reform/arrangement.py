@@ -26,6 +26,7 @@ import numpy as np
 from trimesh.transformations import euler_matrix, rotation_matrix
 
 from qdsega.description import Formation, Leg, PlacedUnit
+from qdsega.description.formation import Side
 from qdsega.description.unit_type import Connector, UnitType
 
 SIDE_COSINE = 0.5
@@ -220,12 +221,7 @@ class Arrangement:
                 continue
             if any(c not in leg.units for n in leg.units for c in self._children[n].values()):
                 continue  # something hangs from it: a link of a chain, not a limb
-            trailing = -frames[top][:3, 0]  # in the root's frame: +x ahead, +y left
-            side = leg.side
-            if trailing[1] > SIDE_COSINE:
-                side = "left"
-            elif trailing[1] < -SIDE_COSINE:
-                side = "right"
+            side = pointing(frames[top]) or leg.side
             legs.append(Leg(leg.name, side, leg.swing_joint, leg.lift_joint, leg.units))
         order = list(self.attached)
         return tuple(sorted(legs, key=lambda leg: order.index(leg.units[0])))
@@ -384,6 +380,39 @@ def connector_matrix(connector: Connector) -> np.ndarray:
     matrix[:3, 3] = connector.xyz_m
     matrix.setflags(write=False)
     return matrix
+
+
+def pointing(frame: np.ndarray) -> Side | None:
+    """The side a unit trails toward from its ``frame`` in the root's (+x ahead, +y left):
+    ``left``, ``right``, or None (ahead or behind)."""
+    trailing_y = -frame[1, 0]
+    if trailing_y > SIDE_COSINE:
+        return "left"
+    if trailing_y < -SIDE_COSINE:
+        return "right"
+    return None
+
+
+def side_connectors(unit_type: UnitType, frame: np.ndarray) -> dict[Side, str]:
+    """The connectors of a unit at ``frame`` (in the root's) whose child would trail to the
+    left and to the right, by side."""
+    sides: dict[Side, str] = {}
+    for name, connector in unit_type.connectors.items():
+        side = pointing(frame @ connector_matrix(connector))
+        if side is not None:
+            sides[side] = name
+    return sides
+
+
+def straight_connector(unit_type: UnitType) -> str | None:
+    """The connector that continues a unit straight behind (``back`` of the shipped units):
+    no turn, on the unit's x axis, behind its origin."""
+    for name, connector in unit_type.connectors.items():
+        matrix = connector_matrix(connector)
+        x, y, z = matrix[:3, 3]
+        if np.allclose(matrix[:3, :3], np.eye(3), atol=1e-9) and x < 0 and abs(y) + abs(z) < 1e-9:
+            return name
+    return None
 
 
 def mirror_connectors(unit_type: UnitType) -> dict[str, str]:

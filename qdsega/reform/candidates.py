@@ -19,12 +19,12 @@ from dataclasses import dataclass
 import numpy as np
 
 from qdsega.reform.arrangement import (
-    SIDE_COSINE,
     Arrangement,
     Material,
     Move,
     Place,
-    connector_matrix,
+    side_connectors,
+    straight_connector,
 )
 from qdsega.reform.plan import plan
 
@@ -134,17 +134,6 @@ def moves_from(arrangement: Arrangement, *, set_aside: bool = True) -> Iterator[
             yield Move(part, place, None)
 
 
-def straight_connector(arrangement: Arrangement, unit: str) -> str | None:
-    """The connector of ``unit`` that continues it straight behind (``back`` of the shipped
-    units): no turn, on the unit's x axis, behind its origin."""
-    for name, connector in arrangement.material.units[unit].unit_type.connectors.items():
-        matrix = connector_matrix(connector)
-        x, y, z = matrix[:3, 3]
-        if np.allclose(matrix[:3, :3], np.eye(3), atol=1e-9) and x < 0 and abs(y) + abs(z) < 1e-9:
-            return name
-    return None
-
-
 def whole_shapes(material: Material) -> list[tuple[str, Arrangement]]:
     """The chain, and the working legs in pairs with an odd one behind (pairs from the front,
     and pairs spread evenly), where the units allow them."""
@@ -174,7 +163,7 @@ def _chain(start: Arrangement) -> Arrangement | None:
     order = trunk + legs + rest
     places: dict[str, Place | None] = {}
     for previous, name in itertools.pairwise(order):
-        connector = straight_connector(start, previous)
+        connector = straight_connector(material.units[previous].unit_type)
         if connector is None:
             return None
         places[name] = Place(previous, connector)
@@ -190,18 +179,12 @@ def _pairs(start: Arrangement, *, spread: bool) -> Arrangement | None:
     trunk = [n for n in start.attached if material.is_trunk(n)]
     slots: list[tuple[Place, Place]] = []
     for unit in trunk:
-        sides = {}
+        sides = side_connectors(material.units[unit].unit_type, frames[unit])
         held = start.children(unit)
-        for name, connector in material.units[unit].unit_type.connectors.items():
-            if name in held and material.is_trunk(held[name]):
-                continue
-            trailing = -(frames[unit][:3, :3] @ connector_matrix(connector)[:3, 0])
-            if trailing[1] > SIDE_COSINE:
-                sides["left"] = Place(unit, name)
-            elif trailing[1] < -SIDE_COSINE:
-                sides["right"] = Place(unit, name)
-        if len(sides) == 2:
-            slots.append((sides["left"], sides["right"]))
+        if len(sides) == 2 and not any(
+            material.is_trunk(held[c]) for c in sides.values() if c in held
+        ):
+            slots.append((Place(unit, sides["left"]), Place(unit, sides["right"])))
     working = [
         leg for leg in material.legs if all(material.units[n].locked_rad is None for n in leg.units)
     ]
@@ -212,7 +195,7 @@ def _pairs(start: Arrangement, *, spread: bool) -> Arrangement | None:
     targets = [place for k in at for place in slots[k]]
     if len(working) % 2:
         last = trunk[-1]
-        connector = straight_connector(start, last)
+        connector = straight_connector(material.units[last].unit_type)
         if connector is None or any(material.is_trunk(c) for c in start.children(last).values()):
             return None
         targets.append(Place(last, connector))

@@ -26,21 +26,22 @@ NEW_LEVELS_DEG = (-20.0, 0.0, 20.0)
 """Levels of a spare active unit whose type the body lacks (deg)."""
 
 
-def parse_spares(given: Sequence[str]) -> dict[str, int]:
-    """``["servo=2", "hub=1"]`` -> ``{"servo": 2, "hub": 1}``.
+def parse_units(given: Sequence[str], *, what: str = "--spare") -> dict[str, int]:
+    """``["servo=2", "hub=1"]`` -> ``{"servo": 2, "hub": 1}``; ``what`` names the argument in
+    an error.
 
     Raises:
         ConfigError: not ``TYPE=N`` with N from 1 to :data:`MAX_SPARES`, or a type named twice.
     """
-    spares: dict[str, int] = {}
+    units: dict[str, int] = {}
     for text in given:
         name, _, count = text.partition("=")
         if not name or not count.isdigit() or not 1 <= int(count) <= MAX_SPARES:
-            raise ConfigError(f"--spare {text!r}: expected TYPE=N with N from 1 to {MAX_SPARES}")
-        if name in spares:
-            raise ConfigError(f"--spare {name} given twice")
-        spares[name] = int(count)
-    return spares
+            raise ConfigError(f"{what} {text!r}: expected TYPE=N with N from 1 to {MAX_SPARES}")
+        if name in units:
+            raise ConfigError(f"{what} {name} given twice")
+        units[name] = int(count)
+    return units
 
 
 def material_of(formation: Formation, spares: dict[str, int]) -> Material:

@@ -37,7 +37,8 @@ from qdsega.reform.candidates import AS_IT_IS, Candidate, Candidates
 from qdsega.reform.folder import ReformFolder
 from qdsega.reform.material import material_of
 from qdsega.reform.outputs import write_outputs
-from qdsega.training.config import SCREENING_GENERATIONS, read_run_config, resolve_config
+from qdsega.reform.settings import ReformSettings
+from qdsega.training.config import read_run_config, resolve_config
 from qdsega.training.run import (
     TrainingInterrupted,
     completed_generations,
@@ -49,35 +50,6 @@ from qdsega.training.run_folder import RunFolder
 JOB_START_S = 5.0
 """What a candidate's run spends before its first generation (s): its process, the body in
 PyBullet, its workers; added to the time its generations take for the estimate of time left."""
-
-
-@dataclass(frozen=True, kw_only=True)
-class ReformSettings:
-    """How hard a reform looks.
-
-    Attributes:
-        seed: every run's seed.
-        screen: generations each candidate learns before they are ranked.
-        rounds: rounds of moves; each after the first moves on from the ``widen`` best.
-        widen: candidates each later round moves on from.
-        top: candidates learnt to the end besides the body as it is.
-        reference_trials: the CMA-ES reference search of each learnt run's evaluation
-            (``qdsega evaluate --reference-trials``; 0: the classic gaits only).
-    """
-
-    seed: int = 0
-    screen: int = SCREENING_GENERATIONS
-    rounds: int = 2
-    widen: int = 2
-    top: int = 3
-    reference_trials: int = 0
-
-    def __post_init__(self) -> None:
-        for name in ("screen", "rounds", "widen", "top"):
-            if getattr(self, name) < 1:
-                raise ConfigError(f"{name} must be at least 1, got {getattr(self, name)}")
-        if self.reference_trials < 0:
-            raise ConfigError(f"reference_trials must be 0 or more, got {self.reference_trials}")
 
 
 @dataclass(frozen=True)
@@ -139,7 +111,7 @@ def reform(
     spares: dict[str, int] | None = None,
     repertoire: Path | None = None,
     config: Path | None = None,
-    settings: ReformSettings = ReformSettings(),
+    settings: ReformSettings | None = None,
     jobs: int = 1,
     ray: str | None = None,
     progress: ProgressFactory | None = None,
@@ -156,6 +128,7 @@ def reform(
         ConfigError: bad settings, or no candidate moves at all.
     """
     start_time = time.perf_counter()
+    settings = settings or ReformSettings()
     if jobs < 1:
         raise ConfigError(f"--jobs must be at least 1, got {jobs}")
     formation = load_formation(formation_file)
@@ -470,12 +443,14 @@ def _adapt(repertoire: Path, formation: Formation, folder: Path) -> dict[str, An
 
 
 def _claim(folder: ReformFolder, inputs: dict[str, Any]) -> None:
-    """Make ``folder`` this reform's: new, or one that holds this same reform.
+    """Make ``folder`` this reform's: new, one that holds only the body's own file (``qdsega
+    design`` writes its first body there), or one that holds this same reform.
 
     Raises:
         RunFolderError: the folder holds something else, or another reform.
     """
     out, record = folder.path, folder.record
+    own = Path(inputs["formation_file"])
     if record.is_file():
         previous = json.loads(record.read_text(encoding="utf-8"))
         if previous.get("inputs") != inputs:
@@ -484,7 +459,7 @@ def _claim(folder: ReformFolder, inputs: dict[str, Any]) -> None:
             )
             raise RunFolderError(message, file=out)
         return
-    if out.exists() and (not out.is_dir() or any(out.iterdir())):
+    if out.exists() and (not out.is_dir() or any(p.resolve() != own for p in out.iterdir())):
         raise RunFolderError("not empty and not a reform's folder; choose another --out", file=out)
     _write_record(folder, {"inputs": inputs})
 

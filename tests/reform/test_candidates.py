@@ -14,7 +14,7 @@ from qdsega.description import load_formation, resolve_formation
 from qdsega.errors import ConfigError, FormationError
 from qdsega.reform.arrangement import Move, Place
 from qdsega.reform.candidates import CHAIN, Candidates, moves_from, whole_shapes
-from qdsega.reform.material import material_of, parse_spares
+from qdsega.reform.material import material_of, parse_units
 
 
 @pytest.fixture
@@ -133,10 +133,10 @@ def test_whole_shapes_of_the_hexapod_that_lost_a_leg():
 
 def test_bad_spares_are_refused_in_one_line():
     with pytest.raises(ConfigError, match="expected TYPE=N"):
-        parse_spares(["servo"])
+        parse_units(["servo"])
     with pytest.raises(ConfigError, match="expected TYPE=N"):
-        parse_spares(["servo=0"])
+        parse_units(["servo=0"])
     with pytest.raises(ConfigError, match="given twice"):
-        parse_spares(["servo=1", "servo=2"])
+        parse_units(["servo=1", "servo=2"])
     with pytest.raises(FormationError, match="--spare gripper: unknown unit type 'gripper'"):
         material_of(load_formation(resolve_formation("quadruped")), {"gripper": 1})
