@@ -1,7 +1,7 @@
 """The table of finished reforms: per reform its winner against the intact body, the body as it
 is adapted and relearnt, and the medians per change.
 
-    .venv/bin/python experiments/reform/reform_table.py runs/reform/*-seed* \
+Usage: .venv/bin/python experiments/reform/reform_table.py runs/reform/*-seed* \
         --intact quadruped_tripod=runs/intact/quadruped-seed{seed} \
         --intact hexapod_lost_leg=runs/intact/hexapod-seed{seed} [--out table.md]
 

@@ -4,7 +4,7 @@ estimate after S generations (its run's best greedy policy in exact physics by t
 compared with the full run's result, for several S: Spearman's rank correlation (scipy's,
 ties handled) and whether the full run's best is among the estimate's top 3.
 
-    .venv/bin/python experiments/reform/screening_correlation.py runs/reform-quadruped_tripod \
+Usage: .venv/bin/python experiments/reform/screening_correlation.py runs/reform-quadruped_tripod \
         --jobs 2 [--screens 1 2 4 8]
 """
 

@@ -55,7 +55,7 @@ def first_body(bag: dict[str, int], *, name: str = "design") -> Formation:
     for k, unit_type in enumerate(trunk, start=1):
         parent = None if k == 1 else units[-1]
         units.append(_placed(f"body{k}", unit_type, parent, None, ()))
-    slots = [(u, side_connectors(u.unit_type, np.eye(4))) for u in units]
+    slots = [(u, side_connectors(u.unit_type, np.eye(4))) for u in units] if passive else []
     pairs = [(unit, sides) for unit, sides in slots if len(sides) == 2]
     for number, (parent, sides) in enumerate(pairs, start=1):
         for side, connector in sides.items():

@@ -38,6 +38,8 @@ HELP_ONLY = (
     "experiments/gait_predictions/gait_predictions.py",  # a CMA-ES gait's exact trials
     "experiments/msm/benchmark_msm.py",  # reproduce_msm.py's training, timed
     "experiments/memo_speed/memo_mirror.py",  # physics_curve.py's measuring, mirrored
+    "experiments/reform/screening_correlation.py",  # full runs of every candidate
+    "experiments/reform/reform_table.py",  # reads reform folders (tests/reform covers them)
 )
 TINY_RUNS = {
     "experiments/msm/reproduce_msm.py": (

@@ -14,6 +14,7 @@ from qdsega.description import load_formation, resolve_formation
 from qdsega.errors import ConfigError, FormationError
 from qdsega.reform.arrangement import Move, Place
 from qdsega.reform.candidates import CHAIN, Candidates, moves_from, whole_shapes
+from qdsega.reform.design import first_body
 from qdsega.reform.material import material_of, parse_units
 
 
@@ -140,3 +141,25 @@ def test_bad_spares_are_refused_in_one_line():
         parse_units(["servo=1", "servo=2"])
     with pytest.raises(FormationError, match="--spare gripper: unknown unit type 'gripper'"):
         material_of(load_formation(resolve_formation("quadruped")), {"gripper": 1})
+
+
+def test_a_first_body_from_a_bag_of_units():
+    body = first_body({"hub": 2, "servo": 7})
+    assert [u.name for u in body.units] == [
+        "body1", "body2", "L1_swing", "L1_lift", "R1_swing", "R1_lift", "L2_swing", "L2_lift",
+        "tail1",
+    ]  # fmt: skip
+    assert [(leg.name, leg.side) for leg in body.legs] == [
+        ("L1", "left"), ("R1", "right"), ("L2", "left")
+    ]  # fmt: skip
+    units = body.units_by_name
+    assert degrees(units["R1_swing"].levels_rad) == [15, -15]
+    assert (units["tail1"].parent, units["tail1"].connector) == ("body2", "back")
+    chain = first_body({"servo": 3})  # no passive unit: one chain
+    assert [(u.name, u.parent) for u in chain.units] == [
+        ("body1", None), ("tail1", "body1"), ("tail2", "tail1")
+    ]  # fmt: skip
+    with pytest.raises(ConfigError, match="no joint"):
+        first_body({"hub": 3})
+    with pytest.raises(FormationError, match="gripper: unknown unit type"):
+        first_body({"gripper": 1})
