@@ -23,6 +23,7 @@ def run(args: argparse.Namespace) -> int:
     from qdsega.description.formation_writer import formation_yaml
     from qdsega.reform.design import first_body
     from qdsega.reform.material import parse_units
+    from qdsega.reform.outputs import count_moves
 
     bag = parse_units(args.units, what="a unit")
     label = "-".join(f"{name}{count}" for name, count in bag.items())
@@ -36,6 +37,7 @@ def run(args: argparse.Namespace) -> int:
         file.write_text(text, encoding="utf-8")
     record = search(args, file, out)
     winner = record["winner"]
-    how = "the first body" if not winner["reformed"] else f"{len(winner['moves'])} moves from it"
+    moved = count_moves(len(winner["moves"]))
+    how = f"{moved} from it" if winner["reformed"] else "the first body"
     print_verdict(record, f"designed {winner['name']} ({how})", out)
     return 0

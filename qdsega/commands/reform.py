@@ -59,6 +59,7 @@ def add_search_arguments(parser: argparse.ArgumentParser, *, out: str) -> None:
 def run(args: argparse.Namespace) -> int:
     from qdsega.description import resolve_formation
     from qdsega.reform.material import parse_units
+    from qdsega.reform.outputs import count_moves
 
     formation = resolve_formation(args.formation)
     spares = parse_units(args.spare)
@@ -66,7 +67,7 @@ def run(args: argparse.Namespace) -> int:
     record = search(args, formation, out, spares=spares, repertoire=args.repertoire)
     winner = record["winner"]
     verdict = (
-        f"re-form into {winner['name']} in {len(winner['moves'])} moves"
+        f"re-form into {winner['name']} in {count_moves(len(winner['moves']))}"
         if winner["reformed"]
         else f"keep the body ({winner['how']})"
     )

@@ -33,6 +33,11 @@ PLAN_CAMERA = CameraConfig(width=360, height=270, pitch_deg=50.0)
 VIDEO = "gait.mp4"
 
 
+def count_moves(n: int) -> str:
+    """``1 move``, ``4 moves``."""
+    return f"{n} move{'s' * (n != 1)}"
+
+
 def write_outputs(
     record: dict[str, Any],
     candidates: Candidates,
@@ -108,9 +113,8 @@ def _headline(record: dict[str, Any]) -> str:
         versus.append(f"adapted as it is {_metres(adapted['distance_m'])} m")
     else:
         versus.append("not adapted (no --repertoire given)")
-    moves = len(winner["moves"])
     what = (
-        f"re-form into {winner['name']} ({moves} move{'s' * (moves != 1)})"
+        f"re-form into {winner['name']} ({count_moves(len(winner['moves']))})"
         if winner["reformed"]
         else f"keep the body ({winner['how']})"
     )
@@ -160,7 +164,7 @@ def _plan(
     lines = [
         f"# Plan: {inputs['formation']} to {winner.name}",
         "",
-        f"{len(moves)} move{'s' * (len(moves) != 1)}, the fewest that reach this body "
+        f"{count_moves(len(moves))}, the fewest that reach this body "
         "(each detaches a unit with everything that hangs from it and attaches it elsewhere, "
         "or sets it aside).",
         "",

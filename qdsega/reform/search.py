@@ -50,6 +50,9 @@ from qdsega.training.run_folder import RunFolder
 JOB_START_S = 5.0
 """What a candidate's run spends before its first generation (s): its process, the body in
 PyBullet, its workers; added to the time its generations take for the estimate of time left."""
+LATER_GENERATION_COST = 2.2
+"""A generation after screening, against one of screening, in wall time (the median of the
+reforms in docs/notes/2026-12-07-reform.md): for the learning's estimate of time left."""
 
 
 @dataclass(frozen=True)
@@ -278,7 +281,8 @@ class Search:
         return ranked[:count]
 
     def learn(self, chosen: Sequence[Candidate]) -> dict[str, dict[str, Any]]:
-        """Learn ``chosen`` to the end and evaluate each; their evaluations by name."""
+        """Learn ``chosen`` to the end and evaluate each; their evaluations by name. The time
+        left is each one's own screening time, scaled to the generations left."""
         rest = [
             read_run_config(self.folder.run(c.name)).agent.genetic.generations
             - self.settings.screen
@@ -287,7 +291,16 @@ class Search:
         self.log(
             f"qdsega reform: learning {len(chosen)} candidates to the end: "
             + ", ".join(c.name for c in chosen)
-            + self._about(sum(max(r, 0) for r in rest) / self.settings.screen * self._screen_s())
+            + self._about(
+                sum(
+                    max(r, 0)
+                    * LATER_GENERATION_COST
+                    / self.settings.screen
+                    * self.screen_s.get(c.name, 0.0)
+                    + JOB_START_S
+                    for c, r in zip(chosen, rest, strict=True)
+                )
+            )
         )
         jobs = [self.job(c, None) for c in chosen]
         errors = run_jobs(
