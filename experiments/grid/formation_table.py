@@ -27,7 +27,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from qdsega.errors import QdsegaError, RunFolderError
-from qdsega.training.config import read_run_config
+from qdsega.training.finished_run import FinishedRun
 from qdsega.training.run_folder import RunFolder
 
 COLUMNS = (
@@ -78,13 +78,12 @@ def read_run(run: Path) -> Run:
     Raises:
         RunFolderError: not a finished, evaluated run folder.
     """
-    folder = RunFolder(run)
-    folder.require_finished(RunFolder.CONFIG, RunFolder.METRICS)
-    summary, evaluation = folder.read_summary(), folder.read_evaluation()
+    finished = FinishedRun.open(run, RunFolder.CONFIG, RunFolder.METRICS)
+    summary, evaluation = finished.summary, finished.folder.read_evaluation()
     if evaluation is None:
         raise RunFolderError(f"not evaluated (no {RunFolder.EVALUATION})", file=run)
-    population = read_run_config(run).agent.genetic.population
-    metrics = folder.read_metrics()
+    population = finished.config.agent.genetic.population
+    metrics = finished.folder.read_metrics()
     pairs = list(zip(metrics["greedy_distance_m"], metrics["greedy_exact_m"], strict=True))
     within = sum(abs(p - e) <= 0.1 * abs(e) for p, e in pairs)
     first, last = pairs[0][1], pairs[-1][1]

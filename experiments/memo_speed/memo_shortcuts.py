@@ -25,8 +25,7 @@ import numpy as np
 
 from qdsega.errors import QdsegaError
 from qdsega.msm.legs import LegLayout
-from qdsega.training.config import read_run_config
-from qdsega.training.formation_copy import load_run_formation
+from qdsega.training.finished_run import FinishedRun
 from qdsega.training.run_folder import RunFolder
 
 _HOLDOUT = 0.2
@@ -59,7 +58,7 @@ def main() -> None:
     parser.add_argument("--seed", type=int, default=0, help="draws the held-out 20 %%")
     args = parser.parse_args()
     try:
-        legs = LegLayout.from_formation(load_run_formation(args.run, read_run_config(args.run)))
+        legs = LegLayout.from_formation(FinishedRun(args.run).formation)
     except QdsegaError as exc:  # not a run folder; a legless body
         parser.error(str(exc))
     table = RunFolder(args.run) / RunFolder.TRANSITIONS

@@ -26,6 +26,7 @@ from typing import Any
 
 import numpy as np
 
+from qdsega.adaptation.folders import AdaptationFolder
 from qdsega.adaptation.repertoire import load_repertoire
 from qdsega.adaptation.trial_model import LENGTH_SCALE, TrialModel
 from qdsega.agent.learner import LearnerState
@@ -42,8 +43,6 @@ from qdsega.training.reconfiguration import WarmStart
 
 DEFAULT_TRIALS = 20
 """Exact trials an adaptation may run (IT&E's budget)."""
-RESULT = "adapt.json"
-GAIT = "gait.csv"
 
 
 @dataclass(frozen=True)
@@ -187,17 +186,18 @@ def adapt(
         "wall_s": time.perf_counter() - start,
     }
     out.mkdir(parents=True, exist_ok=True)
-    with replaced_atomically(out / GAIT) as partial:
+    folder = AdaptationFolder(out)
+    with replaced_atomically(folder.gait) as partial:
         commands = np.resize(gaits[found], (rules.task.trial_steps, len(changed.joints)))
         np.savetxt(partial, commands, fmt="%d", delimiter=",")
-    with replaced_atomically(out / RESULT) as partial:
+    with replaced_atomically(folder.result) as partial:
         partial.write_text(json.dumps(result, indent=2) + "\n", encoding="utf-8")
     return result
 
 
 def is_adaptation(folder: Path) -> bool:
     """Whether ``folder`` holds an adaptation's result."""
-    return (folder / RESULT).is_file()
+    return AdaptationFolder(folder).result.is_file()
 
 
 def warm_start_from(folder: Path, formation: Formation) -> WarmStart:
@@ -209,7 +209,7 @@ def warm_start_from(folder: Path, formation: Formation) -> WarmStart:
         RunFolderError: a corrupt result, or an adaptation of another body.
     """
     try:
-        result = json.loads((folder / RESULT).read_text(encoding="utf-8"))
+        result = json.loads(AdaptationFolder(folder).result.read_text(encoding="utf-8"))
         gait = np.array(result["gait"], dtype=np.int64)
         found = {k: result[k] for k in ("formation", "distance_m", "trials", "joints")}
     except (OSError, ValueError, KeyError, TypeError) as exc:

@@ -43,6 +43,7 @@ import numpy as np
 from qdsega.adaptation.archive import Archive, cvt_centroids, grid_centroids
 from qdsega.adaptation.descriptor import GaitDescriptor
 from qdsega.adaptation.fills import FILLS
+from qdsega.adaptation.folders import RepertoireFolder
 from qdsega.adaptation.map_elites import MapElites
 from qdsega.adaptation.msm_fill import DESCRIPTOR as MSM_DESCRIPTOR
 from qdsega.adaptation.msm_fill import commanded_duty, fill_in_msm
@@ -52,14 +53,13 @@ from qdsega.errors import RunFolderError
 from qdsega.locomotion.rules import ExactRules
 from qdsega.msm import LegLayout
 from qdsega.progress import ProgressFactory
-from qdsega.training.checkpoint import load_checkpoint
+from qdsega.training.finished_run import FinishedRun
 from qdsega.training.formation_copy import FormationSnapshot, copy_world
+from qdsega.training.run_folder import RunFolder
 
 if TYPE_CHECKING:
     from qdsega.locomotion.exact_trials import CycleTrial
 
-ARCHIVE = "repertoire.npz"
-RECORD = "repertoire.json"
 GRID_DIMS = 2
 """Descriptor spaces of at most this many dimensions get a regular grid, larger ones a CVT."""
 
@@ -112,16 +112,16 @@ def empty_archive(
     return Archive.empty(centroids, max_cycle=max_cycle, n_joints=len(formation.joints))
 
 
-def run_gaits(run: Path) -> list[np.ndarray]:
+def run_gaits(run: FinishedRun) -> list[np.ndarray]:
     """A finished run's verified gaits, to seed a repertoire: its elite path (its best trial
     verified in exact physics) and its result's exact replay, each one trial's postures (k, J).
 
     Raises:
         RunFolderError: no checkpoint, or a corrupt one.
     """
-    checkpoint = load_checkpoint(run)
+    checkpoint = run.checkpoint
     if checkpoint is None:
-        raise RunFolderError("not a finished run (no checkpoint.npz)", file=run)
+        raise RunFolderError(f"not a finished run (no {RunFolder.CHECKPOINT})", file=run.path)
     paths = [checkpoint.learner.elite_path, checkpoint.gait[1:]]  # the replay's start is rest
     gaits: list[np.ndarray] = []
     for path in paths:
@@ -235,12 +235,13 @@ def load_repertoire(folder: Path) -> tuple[Archive, dict[str, Any]]:
     Raises:
         RunFolderError: no repertoire there, or a corrupt one.
     """
-    if not (folder / ARCHIVE).is_file() or not (folder / RECORD).is_file():
-        message = "not a repertoire (no repertoire.npz and repertoire.json)"
+    files = RepertoireFolder(folder)
+    if not files.archive.is_file() or not files.record.is_file():
+        message = f"not a repertoire (no {files.archive.name} and {files.record.name})"
         raise RunFolderError(message, file=folder)
     try:
-        record = json.loads((folder / RECORD).read_text(encoding="utf-8"))
-        with np.load(folder / ARCHIVE) as data:
+        record = json.loads(files.record.read_text(encoding="utf-8"))
+        with np.load(files.archive) as data:
             archive = Archive.from_state({k: data[k] for k in data.files})
             int(data["told"])
         if not isinstance(record, dict) or len(record["joints"]) != archive.gaits.shape[2]:
@@ -285,7 +286,7 @@ def _resume(
     """The archive, the search's generator, the gaits played and the wall time so far: from
     ``out`` where it holds a repertoire, else fresh."""
     search = np.random.default_rng([settings.seed, 2])
-    if not (out / ARCHIVE).is_file():
+    if not RepertoireFolder(out).archive.is_file():
         return empty_archive(formation, settings, longest=longest), search, 0, 0.0
     archive, saved = load_repertoire(out)
     keys = ("formation", "joints", "levels", "world", "descriptor", "settings", "seeds")
@@ -300,7 +301,7 @@ def _resume(
             "another --out"
         )
         raise RunFolderError(message, file=out)
-    with np.load(out / ARCHIVE) as data:
+    with np.load(RepertoireFolder(out).archive) as data:
         search.bit_generator.state = json.loads(str(data["search_state"]))
         told = int(data["told"])
     return archive, search, told, float(saved.get("wall_s", 0.0))
@@ -312,7 +313,8 @@ def _save(out: Path, archive: Archive, emitter: MapElites, record: dict) -> None
     record is at most one ahead of (the record is read only for its wall time)."""
     state = json.dumps(emitter.rng.bit_generator.state)
     told = np.array(emitter.told)
-    with replaced_atomically(out / RECORD) as partial:
+    folder = RepertoireFolder(out)
+    with replaced_atomically(folder.record) as partial:
         partial.write_text(json.dumps(record, indent=2) + "\n", encoding="utf-8")
-    with replaced_atomically(out / ARCHIVE) as partial:
+    with replaced_atomically(folder.archive) as partial:
         np.savez_compressed(partial, search_state=np.array(state), told=told, **archive.state())

@@ -15,9 +15,6 @@ from matplotlib.ticker import MaxNLocator
 from qdsega.adaptation.archive import Archive
 from qdsega.analysis.plots import save_figure
 
-ARCHIVE_MAP = "archive.png"
-ADAPTATION_CURVE = "adaptation_curve.png"
-
 
 def archive_map(archive: Archive, record: dict[str, Any], file: Path) -> Path:
     """Each elite at its descriptor, coloured by its distance: the two descriptors as they are,

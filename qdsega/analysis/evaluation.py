@@ -46,13 +46,12 @@ from qdsega.baselines.reference_search import (
     reference_gait,
 )
 from qdsega.description import Formation, load_formation, resolve_formation
-from qdsega.errors import ConfigError, RunFolderError
+from qdsega.errors import ConfigError
 from qdsega.locomotion.env import LocomotionEnv, replay_postures, rules_env
 from qdsega.locomotion.env_world import EnvWorld
 from qdsega.locomotion.rules import ExactRules
 from qdsega.progress import ProgressFactory
-from qdsega.training.config import TrainingConfig, read_run_config
-from qdsega.training.formation_copy import load_run_formation, load_run_world
+from qdsega.training.finished_run import FinishedRun
 from qdsega.training.joint_mapping import JointMapping
 from qdsega.training.run_folder import RunFolder
 from qdsega.training.sims import check_sim
@@ -79,14 +78,15 @@ def evaluate_run(
         message = f"--reference-trials must be 0 (no search) or more, got {reference_trials}"
         raise ConfigError(message)
     run = Path(run)
-    summary, config, policy = load_run(run)
-    formation = load_run_formation(run, config)
+    finished = replayable_run(run)
+    summary, config, policy = finished.summary, finished.config, finished.policy
+    formation = finished.formation
     if reference_trials > 0:
         try:
             check_budget(formation, reference_trials)  # before any physics
         except ValueError as exc:
             raise ConfigError(f"reference search: {exc}") from None
-    rules = config.rules(load_run_world(run))
+    rules = config.rules(finished.world)
     env = rules_env(formation, rules)
     try:
         learned = replay_policy(env, policy)
@@ -127,9 +127,9 @@ def evaluate_on(run: Path | str, other: Path | str) -> tuple[dict[str, Any], Pat
             lower agent cannot drive.
     """
     run = Path(run)
-    _, config, policy = load_run(run)
-    source = load_run_formation(run, config)
-    world = load_run_world(run)
+    finished = replayable_run(run)
+    config, policy = finished.config, finished.policy
+    source, world = finished.formation, finished.world
     target = load_formation(resolve_formation(other))
     target = config.with_light(world.lights(target))
     check_sim(target, replace(config, sim="memo"))  # the lower agent must drive it
@@ -268,18 +268,13 @@ def _period(postures: np.ndarray) -> int:
     return best
 
 
-def load_run(run: Path) -> tuple[dict[str, Any], TrainingConfig, GreedyPolicy]:
-    """A finished run folder's summary, configuration and greedy policy.
+def replayable_run(run: Path) -> FinishedRun:
+    """A finished run folder with a greedy policy to replay: its configuration, summary and
+    policy are read here, in that order, so that a corrupt one fails before any physics.
 
     Raises:
         RunFolderError: missing folder or files, or files that do not parse.
     """
-    folder = RunFolder(run)
-    folder.require_finished(folder.CONFIG, folder.POLICY)
-    config = read_run_config(run)
-    summary = folder.read_summary()
-    try:
-        policy = GreedyPolicy.load(folder / folder.POLICY)
-    except ValueError as exc:
-        raise RunFolderError(f"corrupt run folder ({exc})", file=run) from None
-    return summary, config, policy
+    finished = FinishedRun.open(run, RunFolder.CONFIG, RunFolder.POLICY)
+    _ = finished.config, finished.summary, finished.policy
+    return finished

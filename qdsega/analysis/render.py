@@ -9,15 +9,13 @@ from pathlib import Path
 
 import numpy as np
 
-from qdsega.analysis.evaluation import load_run, replay_policy
+from qdsega.analysis.evaluation import replay_policy, replayable_run
 from qdsega.analysis.recorder import Film, record
 from qdsega.analysis.video import VIDEO_SUFFIXES, write_video
 from qdsega.description import Formation, World
 from qdsega.errors import ConfigError, FormationError
 from qdsega.locomotion.env import LocomotionEnv, replay_postures, rules_env
 from qdsega.simulation.camera import CameraConfig, body_extent_m
-from qdsega.training.formation_copy import load_run_formation, load_run_world
-from qdsega.training.run_folder import RunFolder
 
 
 def render_run(run: Path, out: Path, camera: CameraConfig) -> Film:
@@ -94,15 +92,15 @@ def _run_env(run: Path, camera: CameraConfig) -> Iterator[tuple[LocomotionEnv, n
     """A rendering env of the run's body under its rules in its own world, and the postures
     of its greedy trial: those ``qdsega evaluate`` replayed, or replayed anew where the run
     has no evaluation yet."""
-    _, config, policy = load_run(run)
-    formation = load_run_formation(run, config)
-    evaluation = RunFolder(run).read_evaluation()
-    env = rules_env(formation, config.rules(load_run_world(run)), camera=camera)
+    finished = replayable_run(run)
+    formation = finished.formation
+    evaluation = finished.folder.read_evaluation()
+    env = rules_env(formation, finished.config.rules(finished.world), camera=camera)
     try:
         if evaluation is not None:
             postures = np.array(evaluation["postures"])
         else:
-            postures = np.array(replay_policy(env, policy)["postures"])
+            postures = np.array(replay_policy(env, finished.policy)["postures"])
         yield env, postures
     finally:
         env.close()

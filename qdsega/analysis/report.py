@@ -15,8 +15,8 @@ import json
 from pathlib import Path
 from typing import Any
 
-from qdsega.adaptation.adapt import GAIT, RESULT, is_adaptation
-from qdsega.analysis.adaptation_plots import ADAPTATION_CURVE
+from qdsega.adaptation.adapt import is_adaptation
+from qdsega.adaptation.folders import AdaptationFolder
 from qdsega.analysis.plots import FIGURES, body_in_world
 from qdsega.atomic import replaced_atomically
 from qdsega.errors import RunFolderError
@@ -46,7 +46,7 @@ def write_report(run: Path | str, out: Path | None = None) -> Path:
     """
     run = Path(run)
     if is_adaptation(run):
-        return write_page(_adaptation(run), out or run / RunFolder.REPORT)
+        return write_page(_adaptation(run), out or AdaptationFolder(run).report)
     folder = RunFolder(run)
     folder.require_finished(folder.CONFIG)
     summary, evaluation = folder.read_summary(), folder.read_evaluation()
@@ -95,8 +95,9 @@ def write_page(content: tuple[str, list[str]], out: Path) -> Path:
 
 def _adaptation(folder: Path) -> tuple[str, list[str]]:
     """The title and parts of an adaptation's page."""
+    files = AdaptationFolder(folder)
     try:
-        result = json.loads((folder / RESULT).read_text(encoding="utf-8"))
+        result = json.loads(files.result.read_text(encoding="utf-8"))
         title = f"qdsega adapt: {result['formation']} from {result['intact']}'s repertoire"
         summary = {
             "changed body": result["formation_file"] or result["formation"],
@@ -118,12 +119,12 @@ def _adaptation(folder: Path) -> tuple[str, list[str]]:
         )
     except (OSError, ValueError, KeyError, TypeError) as exc:
         raise RunFolderError(f"corrupt adaptation ({exc})", file=folder) from None
-    curve = folder / ADAPTATION_CURVE
     figure = (
-        f"<figure><img alt='{ADAPTATION_CURVE}' src='{data_uri(curve)}'></figure>"
-        if curve.is_file()
+        f"<figure><img alt='{files.curve.name}' src='{data_uri(files.curve)}'></figure>"
+        if files.curve.is_file()
         else "<p class='note'>No curve.</p>"
     )
+    video = f"{folder}/{files.video.name}"
     head = "<tr><th>trial</th><th>cell</th><th>on the intact body (m)</th>"
     head += "<th>predicted (m)</th><th>exact (m)</th><th>failed</th></tr>"
     return title, [
@@ -131,9 +132,7 @@ def _adaptation(folder: Path) -> tuple[str, list[str]]:
         "<h2>Summary</h2>",
         html_table(summary),
         "<h2>Video of the gait found</h2>",
-        videos_html(
-            folder, f"qdsega render FORMATION --postures {folder / GAIT} -o {folder}/gait.mp4"
-        ),
+        videos_html(folder, f"qdsega render FORMATION --postures {files.gait} -o {video}"),
         "<h2>Adaptation curve</h2>",
         figure,
         "<h2>Every trial</h2>",

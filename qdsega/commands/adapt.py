@@ -8,7 +8,6 @@ from pathlib import Path
 from qdsega.errors import ConfigError
 
 NAME = "adapt"
-VIDEO = "gait.mp4"
 HELP = (
     "adapt a changed body (a unit lost, locked or added) with the intact body's repertoire: "
     "gaits tried in exact physics, each chosen by a model that every trial corrects"
@@ -33,8 +32,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> int:
     # Imported here: it starts PyBullet, which the other commands need not load.
-    from qdsega.adaptation.adapt import GAIT, adapt
-    from qdsega.analysis.adaptation_plots import ADAPTATION_CURVE, adaptation_curve
+    from qdsega.adaptation.adapt import adapt
+    from qdsega.adaptation.folders import AdaptationFolder
+    from qdsega.analysis.adaptation_plots import adaptation_curve
     from qdsega.analysis.render import read_postures, render_postures
     from qdsega.analysis.report import write_report
     from qdsega.description import load_formation, resolve_formation
@@ -53,15 +53,16 @@ def run(args: argparse.Namespace) -> int:
         fresh_m = float(folder.read_summary()["distance_m"])
     out = args.out or Path("runs") / f"adapt-{changed.name}"
     result = adapt(args.repertoire, changed, out, trials=args.trials, progress=ProgressLine)
-    adaptation_curve(result, out / ADAPTATION_CURVE, fresh_m=fresh_m)
+    files = AdaptationFolder(out)
+    adaptation_curve(result, files.curve, fresh_m=fresh_m)
     if not args.no_video:
         world = load_run_world(args.repertoire)
-        postures = read_postures(out / GAIT, len(changed.joints))
-        render_postures(world.lights(changed), postures, out / VIDEO, CameraConfig(), world=world)
+        postures = read_postures(files.gait, len(changed.joints))
+        render_postures(world.lights(changed), postures, files.video, CameraConfig(), world=world)
     write_report(out)
     print(
         f"{changed.name}: {result['distance_m']:.4f} m with exact physics at trial "
         f"{result['trial_found']} of {len(result['trials'])} (stopped: {result['stopped']}; "
-        f"{result['wall_s']:.1f} s) -> {out}, report.html"
+        f"{result['wall_s']:.1f} s) -> {out}, {files.report.name}"
     )
     return 0

@@ -44,13 +44,14 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> int:
     # Imported here: it starts PyBullet, which the other commands need not load.
+    from qdsega.adaptation.folders import RepertoireFolder
     from qdsega.adaptation.repertoire import (
         RepertoireSettings,
         build_repertoire,
         load_repertoire,
         run_gaits,
     )
-    from qdsega.analysis.adaptation_plots import ARCHIVE_MAP, archive_map
+    from qdsega.analysis.adaptation_plots import archive_map
     from qdsega.description import (
         World,
         load_formation,
@@ -58,9 +59,8 @@ def run(args: argparse.Namespace) -> int:
         resolve_formation,
     )
     from qdsega.progress import ProgressLine
-    from qdsega.training.config import read_run_config, resolve_config
-    from qdsega.training.formation_copy import load_run_formation, load_run_world
-    from qdsega.training.run_folder import RunFolder
+    from qdsega.training.config import resolve_config
+    from qdsega.training.finished_run import FinishedRun
 
     if args.workers < 1:
         raise ConfigError(f"--workers must be at least 1, got {args.workers}")
@@ -68,11 +68,9 @@ def run(args: argparse.Namespace) -> int:
     if run_folder.is_dir():  # a run: its body, world and rules, its gaits played first
         if args.world is not None:
             raise ConfigError("--world: a run's repertoire is built in the run's world")
-        RunFolder(run_folder).require_finished()
-        config = read_run_config(run_folder)
-        formation = load_run_formation(run_folder, config)
-        world = load_run_world(run_folder)
-        seeds, seeded_from = run_gaits(run_folder), run_folder
+        finished = FinishedRun.open(run_folder)
+        config, formation, world = finished.config, finished.formation, finished.world
+        seeds, seeded_from = run_gaits(finished), run_folder
     else:
         world = World() if args.world is None else named_world(args.world)
         formation = world.lights(load_formation(resolve_formation(args.formation)))
@@ -102,7 +100,7 @@ def run(args: argparse.Namespace) -> int:
     )
     archive, record = load_repertoire(out)
     if len(archive.filled):
-        archive_map(archive, record, out / ARCHIVE_MAP)
+        archive_map(archive, record, RepertoireFolder(out).archive_map)
     best = "none walked" if record["best_m"] is None else f"best {record['best_m']:.4f} m"
     played = f"{record['evaluations_done']} gaits played"
     if fill == "msm":

@@ -441,10 +441,11 @@ def _check_repertoire(repertoire: Path, formation: Formation, world: World) -> N
 
 def _adapt(repertoire: Path, formation: Formation, folder: Path) -> dict[str, Any]:
     """The body as it is, adapted from the repertoire into ``folder`` (kept once done)."""
-    from qdsega.adaptation.adapt import RESULT, adapt
+    from qdsega.adaptation.adapt import adapt, is_adaptation
+    from qdsega.adaptation.folders import AdaptationFolder
 
-    if (folder / RESULT).is_file():
-        result = json.loads((folder / RESULT).read_text(encoding="utf-8"))
+    if is_adaptation(folder):
+        result = json.loads(AdaptationFolder(folder).result.read_text(encoding="utf-8"))
     else:
         result = adapt(repertoire, formation, folder)
     return {

@@ -28,6 +28,7 @@ from qdsega.errors import ConfigError, QdsegaWarning, RunFolderError
 from qdsega.progress import ProgressLine
 from qdsega.training.checkpoint import Checkpoint, load_checkpoint, save_checkpoint
 from qdsega.training.config import TrainingConfig, read_run_config
+from qdsega.training.finished_run import FinishedRun
 from qdsega.training.formation_copy import (
     FormationSnapshot,
     copy_world,
@@ -228,19 +229,17 @@ def _warm_source(
     Raises:
         RunFolderError: see :func:`train`.
     """
-    source = RunFolder(run)
-    source.require_finished(source.CONFIG, source.CHECKPOINT)
-    source_config = read_run_config(run)
-    checkpoint = load_checkpoint(run)
+    source = FinishedRun.open(run, RunFolder.CONFIG, RunFolder.CHECKPOINT)
+    source_config, checkpoint = source.config, source.checkpoint
     if checkpoint is None or checkpoint.learner.previous is None:
-        raise RunFolderError(f"not a finished run folder (no {source.CHECKPOINT})", file=run)
+        raise RunFolderError(f"not a finished run folder (no {RunFolder.CHECKPOINT})", file=run)
     if source_config.task.exterior_bin_edges_deg != config.task.exterior_bin_edges_deg:
         raise ConfigError(
             "its exterior states (task.exterior_bin_edges_deg) differ from this run's; its "
             "Q-table cannot carry over",
             file=run,
         )
-    source_formation = load_run_formation(run, source_config)
+    source_formation = source.formation
     mapping = JointMapping.between(source_formation, formation)
     if not mapping.matched and not allow_unmatched:
         raise RunFolderError(
@@ -248,7 +247,7 @@ def _warm_source(
             "carries over (give --allow-unmatched to start from it anyway)",
             file=run,
         )
-    return WarmStart(warm_record(run, source.read_summary(), mapping), mapping, checkpoint.learner)
+    return WarmStart(warm_record(run, source.summary, mapping), mapping, checkpoint.learner)
 
 
 def resume(run: Path | str, *, progress: Progress | None = None) -> dict[str, Any]:
