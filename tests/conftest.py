@@ -64,3 +64,9 @@ def tiny_run(tmp_path_factory: pytest.TempPathFactory) -> Path:
     evaluated = run_cli("evaluate", run, "--reference-trials", "0")
     assert evaluated.returncode == 0, evaluated.stderr
     return run
+
+
+def pytest_collection_modifyitems(items: list[pytest.Item]) -> None:
+    """The slow tests first, in their order, then the rest: two processes then end together,
+    the short tests filling in, instead of one long test running alone at the end."""
+    items.sort(key=lambda item: item.get_closest_marker("slow") is None)
