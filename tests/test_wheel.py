@@ -2,6 +2,7 @@
 folder outside the checkout, it finds its own units and formations."""
 
 import os
+import re
 import shutil
 import subprocess
 import sys
@@ -15,7 +16,7 @@ import pytest
 pytestmark = pytest.mark.slow  # end to end: make test-fast leaves it out
 
 CHECKOUT = Path(__file__).resolve().parent.parent
-SOURCES = ("pyproject.toml", "README.md", "qdsega", "units", "assemblies", "worlds")
+SOURCES = ("pyproject.toml", "README.md", "LICENSE", "qdsega", "units", "assemblies", "worlds")
 """What the wheel is built from: copied, so that the build leaves nothing in the checkout."""
 
 TINY_TRAINING = "agent:\n  genetic: {population: 2}\nlocal_search: 1\n"
@@ -74,6 +75,8 @@ def test_wheel_installs_and_runs_outside_the_checkout(tmp_path):
     shipped = [*(CHECKOUT / "qdsega").rglob("*.py"), *(CHECKOUT / "qdsega").rglob("*.json")]
     for file in shipped:  # code and shipped reference gaits
         assert file.relative_to(CHECKOUT).as_posix() in names, f"{file} is not in the wheel"
+    assert "qdsega/py.typed" in names  # type hints for the users' checkers
+    assert any(name.endswith(".dist-info/licenses/LICENSE") for name in names), names
     for folder, package in (
         ("units", "qdsega/units"),
         ("assemblies", "qdsega/assemblies"),
@@ -99,6 +102,10 @@ def test_wheel_installs_and_runs_outside_the_checkout(tmp_path):
     assert Path(module).is_relative_to(tmp_path / "env") and Path(units).is_relative_to(
         tmp_path / "env"
     )
+
+    declared = re.search(r'^version = "(.+)"$', (CHECKOUT / "pyproject.toml").read_text(), re.M)
+    versions = _run(python, "-m", "qdsega", "--version", cwd=elsewhere)
+    assert versions.stdout.strip() == f"qdsega {declared[1]}"  # pyproject.toml: its one source
 
     qdsega = tmp_path / "env" / "bin" / "qdsega"
     assembled = _run(qdsega, "assemble", "snake5", cwd=elsewhere)
