@@ -27,6 +27,7 @@ LAYERS = (
     ("qdsega.match", "qdsega.reform"),
     ("qdsega.commands",),
     ("qdsega.cli",),
+    ("qdsega.__main__",),
 )
 """Bottom first. A module may import from its own layer's packages and the layers below;
 within a layer, only from its own package (``qdsega.sweep`` and ``qdsega.bench`` are
