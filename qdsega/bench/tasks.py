@@ -265,7 +265,8 @@ QUICK = (
         trials=50,
         population=6,
         ppo_steps=30,
-        methods=("qdsega", "ga-sequence", "random-search", "cma-cpg", "ppo"),
+        # one of each way into PyBullet: a learner's run, open-loop sequences, an env
+        methods=("qdsega", "cma-cpg", "ppo"),
         budgets=(120, 360),
         forced="Quick mode: tiny budgets that check the pipeline, not the methods.",
     ),

@@ -22,6 +22,10 @@ from qdsega.simulation.bullet import BulletSimulation
 pytestmark = pytest.mark.slow  # end to end: make test-fast leaves it out
 
 SECONDS_PER_MUTANT = 5.0
+SAME_KEYS_AS = {"hexapod_lost_leg": "hexapod", "quadruped_tripod": "quadruped", "snake6": "snake5"}
+"""Changed bodies written with the same keys as their originals: their mutants are the
+originals' mutants less a unit, so they are left out (the locked leg's file has keys of its
+own and stays)."""
 
 
 def _check_mutant(data: Any, folder: Any, capfd: pytest.CaptureFixture[str]) -> str:
@@ -49,7 +53,9 @@ def _check_mutant(data: Any, folder: Any, capfd: pytest.CaptureFixture[str]) -> 
     return "assembled" if code == 0 else "refused"
 
 
-@pytest.mark.parametrize("file", SHIPPED_FORMATIONS, ids=lambda f: f.stem)
+@pytest.mark.parametrize(
+    "file", [f for f in SHIPPED_FORMATIONS if f.stem not in SAME_KEYS_AS], ids=lambda f: f.stem
+)
 def test_every_mutant_assembles_and_loads_or_is_refused_in_one_line(file, tmp_path, capfd):
     data = yaml.safe_load(file.read_text(encoding="utf-8"))
     outcomes = {"assembled": 0, "refused": 0}

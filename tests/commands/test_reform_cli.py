@@ -110,19 +110,3 @@ def test_bad_input_is_one_line_and_writes_nothing(biped: tuple[Path, Path], tmp_
         assert result.returncode == 2, (message, result.stderr)
         assert result.stderr.count("\n") == 1 and message in result.stderr, result.stderr
         assert not out.exists(), message
-
-
-def test_design_puts_a_body_together_and_reforms_it(biped: tuple[Path, Path], tmp_path: Path):
-    _, config = biped
-    config.write_text(config.read_text().replace("generations: 2", "generations: 1"))
-    out = tmp_path / "design"
-    args = ("design", "servo=2", "--config", config, "--screen", "1", "--rounds", "1",
-            "--top", "1", "--out", out)  # fmt: skip
-    result = run_cli(*args)
-    assert result.returncode == 0, result.stderr
-    assert "design_servo2: designed c0" in result.stdout
-    assert load_formation(out / "first.yaml").name == "design_servo2"
-    assert (out / "winner.yaml").is_file() and (out / "reform.html").is_file()
-    again = run_cli(*args)  # a finished design, run again, is kept
-    assert again.returncode == 0
-    assert again.stdout.split("(")[0] == result.stdout.split("(")[0]

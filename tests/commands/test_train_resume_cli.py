@@ -83,7 +83,7 @@ _MOMENTS = {
         *(
             (kind, moment)
             for kind in ("msm", "memo")
-            for moment in [*_MOMENTS, "at a random moment"]
+            for moment in [*_MOMENTS, *(("at a random moment",) if kind == "msm" else ())]
         ),
         ("memo in a world", "after two generations"),
     ],
