@@ -9,6 +9,7 @@ from pathlib import Path
 
 import numpy as np
 
+from qdsega.adaptation.folders import AdaptationFolder
 from qdsega.analysis.evaluation import replay_policy, replayable_run
 from qdsega.analysis.recorder import Film, record
 from qdsega.analysis.video import VIDEO_SUFFIXES, write_video
@@ -47,6 +48,13 @@ def render_postures(
         return _film(env, postures, out)
     finally:
         env.close()
+
+
+def render_adaptation(folder: Path, changed: Formation, world: World, camera: CameraConfig) -> Film:
+    """Film the gait an adaptation of ``changed`` found, in ``world``, into its folder."""
+    files = AdaptationFolder(folder)
+    postures = read_postures(files.gait, len(changed.joints))
+    return render_postures(world.lights(changed), postures, files.video, camera, world=world)
 
 
 def final_still(run: Path, camera: CameraConfig) -> np.ndarray:

@@ -35,7 +35,7 @@ def run(args: argparse.Namespace) -> int:
     from qdsega.adaptation.adapt import adapt
     from qdsega.adaptation.folders import AdaptationFolder
     from qdsega.analysis.adaptation_plots import adaptation_curve
-    from qdsega.analysis.render import read_postures, render_postures
+    from qdsega.analysis.render import render_adaptation
     from qdsega.analysis.report import write_report
     from qdsega.description import load_formation, resolve_formation
     from qdsega.progress import ProgressLine
@@ -56,9 +56,7 @@ def run(args: argparse.Namespace) -> int:
     files = AdaptationFolder(out)
     adaptation_curve(result, files.curve, fresh_m=fresh_m)
     if not args.no_video:
-        world = load_run_world(args.repertoire)
-        postures = read_postures(files.gait, len(changed.joints))
-        render_postures(world.lights(changed), postures, files.video, CameraConfig(), world=world)
+        render_adaptation(out, changed, load_run_world(args.repertoire), CameraConfig())
     write_report(out)
     print(
         f"{changed.name}: {result['distance_m']:.4f} m with exact physics at trial "

@@ -18,13 +18,15 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 from qdsega.analysis.plots import plot_run
-from qdsega.analysis.render import final_still, render_run, rest_still
+from qdsega.analysis.render import final_still, render_adaptation, render_run, rest_still
 from qdsega.analysis.report import data_uri, html_table, videos_html, write_page, write_report
 from qdsega.atomic import replaced_atomically
+from qdsega.description import load_formation
 from qdsega.reform.arrangement import Arrangement, Move
 from qdsega.reform.candidates import Candidate, Candidates
 from qdsega.reform.folder import ReformFolder
 from qdsega.simulation.camera import CameraConfig
+from qdsega.training.formation_copy import load_run_world
 
 STILL = CameraConfig(width=480, height=360)
 """A learnt candidate's still: where its evaluated trial ended."""
@@ -48,12 +50,18 @@ def write_outputs(
     """Everything but ``reform.json`` for a finished reform's ``record``."""
     winner = candidates.by_name(record["winner"]["name"])
     shutil.copyfile(folder.candidate(winner.name), folder.winner)
-    run = record["winner"]["run"]
+    run, adaptation = record["winner"]["run"], record["winner"].get("adaptation")
     if run is not None:
         log(f"qdsega reform: filming {winner.name}, its figures and report")
         render_run(Path(run), Path(run) / VIDEO, CameraConfig())
         plot_run(Path(run))
         write_report(Path(run))
+    elif adaptation is not None:  # the body as it is, with the gait adapt found
+        log(f"qdsega reform: filming the gait adapted to {winner.name}, and its report")
+        body = load_formation(folder.candidate(winner.name))
+        world = load_run_world(folder.run(winner.name))
+        render_adaptation(Path(adaptation), body, world, CameraConfig())
+        write_report(Path(adaptation))
     stills = {}
     for row in record["candidates"]:
         if row["distance_m"] is not None:
@@ -193,8 +201,8 @@ def _page(
 ) -> Path:
     inputs = record["inputs"]
     title = f"qdsega reform: {inputs['formation']} in {inputs['world']}"
-    run = record["winner"]["run"]
-    video = videos_html(Path(run)) if run is not None else "<p class='note'>No run.</p>"
+    shown = record["winner"]["run"] or record["winner"].get("adaptation")
+    video = videos_html(Path(shown)) if shown is not None else "<p class='note'>No run.</p>"
     head = (
         "<tr><th>candidate</th><th>how</th><th>moves</th><th>estimate (m)</th>"
         "<th>exact (m)</th><th>dropped</th></tr>"
@@ -225,7 +233,7 @@ def _page(
         "verdict": _headline(record),
         "wall time (min)": record["wall_s"] / 60,
         "winner's formation": str(folder.winner),
-        "winner's run": run or "",
+        "winner's run": shown or "",
     }
     parts = [
         f"<h1>{html.escape(title)}</h1>",

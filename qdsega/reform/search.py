@@ -355,6 +355,8 @@ class Search:
         baseline = max((d for d in (relearnt_m, adapted_m) if d is not None), default=0.0)
         reformed = best != current and learnt[best]["distance_m"] > baseline
         winner = best if reformed else current
+        how = "re-formed" if reformed else _as_it_is(relearnt_m, adapted_m)
+        adapted_wins = how == "as it is, adapted"
         return {
             "inputs": inputs,
             "candidates": rows,
@@ -362,9 +364,10 @@ class Search:
             "winner": {
                 "name": winner,
                 "reformed": reformed,
-                "how": "re-formed" if reformed else _as_it_is(relearnt_m, adapted_m),
+                "how": how,
                 "distance_m": learnt[best]["distance_m"] if reformed else baseline,
-                "run": learnt.get(winner, {}).get("run"),
+                "run": None if adapted_wins else learnt.get(winner, {}).get("run"),
+                "adaptation": adapted["folder"] if adapted_wins else None,
                 "moves": [_move(m) for m in self.candidates.by_name(winner).moves],
             },
             "wall_s": wall_s,
