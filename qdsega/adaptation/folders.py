@@ -59,7 +59,7 @@ class AdaptationFolder:
     @property
     def video(self) -> Path:
         """The film of the gait found (none with ``--no-video``)."""
-        return self.path / "gait.mp4"
+        return self.path / RunFolder.VIDEO
 
     @property
     def report(self) -> Path:

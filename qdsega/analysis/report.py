@@ -226,7 +226,7 @@ def videos_html(run: Path, how: str | None = None) -> str:
     """Every video in ``run``; where there is none, ``how`` to make one (a command)."""
     files = sorted(p for p in run.iterdir() if p.suffix.lower() in (".mp4", ".gif"))
     if not files:
-        how = how or f"qdsega render {run} -o {run}/gait.mp4"
+        how = how or f"qdsega render {run} -o {run / RunFolder.VIDEO}"
         return f"<p class='note'>No video: <code>{html.escape(how)}</code>.</p>"
     blocks = []
     for file in files:

@@ -27,12 +27,12 @@ from qdsega.reform.candidates import Candidate, Candidates
 from qdsega.reform.folder import ReformFolder
 from qdsega.simulation.camera import CameraConfig
 from qdsega.training.formation_copy import load_run_world
+from qdsega.training.run_folder import RunFolder
 
 STILL = CameraConfig(width=480, height=360)
 """A learnt candidate's still: where its evaluated trial ended."""
 PLAN_CAMERA = CameraConfig(width=360, height=270, pitch_deg=50.0)
 """A body at rest in the plan, seen from behind and above."""
-VIDEO = "gait.mp4"
 
 
 def count_moves(n: int) -> str:
@@ -53,7 +53,7 @@ def write_outputs(
     run, adaptation = record["winner"]["run"], record["winner"].get("adaptation")
     if run is not None:
         log(f"qdsega reform: filming {winner.name}, its figures and report")
-        render_run(Path(run), Path(run) / VIDEO, CameraConfig())
+        render_run(Path(run), Path(run) / RunFolder.VIDEO, CameraConfig())
         plot_run(Path(run))
         write_report(Path(run))
     elif adaptation is not None:  # the body as it is, with the gait adapt found

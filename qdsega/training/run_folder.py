@@ -66,6 +66,8 @@ class RunFolder:
     """Written last by ``qdsega train``: its presence means the run is finished."""
     EVALUATION: ClassVar[str] = "evaluation.json"
     REPORT: ClassVar[str] = "report.html"
+    VIDEO: ClassVar[str] = "gait.mp4"
+    """Where a run's film goes when it goes in the run folder (``render -o`` names its own)."""
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "path", Path(self.path))
