@@ -177,7 +177,7 @@ class QDSEGA:
         """The elite path a warm start handed on (:func:`qdsega.training.reconfiguration.
         warm_state`) while no trial on this body has been verified, shape (k, J); else None.
         A world that can replay it with exact physics does so before the first generation
-        (:meth:`qdsega.training.sims.TrainingSim.verify`)."""
+        (the training loop, :mod:`qdsega.training.run`)."""
         if self._elite_m is None and len(self._elite_path):
             return self._elite_path.copy()
         return None

@@ -86,7 +86,7 @@ class TrainingConfig:
             (docs/algorithm.md).
         local_search: memo mode: neighbours of the best exact trial so far replayed with
             exact physics each generation, the best one's postures kept in the population
-            (:class:`qdsega.training.sims.TrainingSim`); 0 for none (-). 10: it lifts the
+            (:class:`qdsega.agent.verification.Verification`); 0 for none (-). 10: it lifts the
             worst seeds most, for about twice the wall time (docs/algorithm.md).
         phase_moves: the share of local-search neighbours that shift one joint's commands one
             step in time instead of moving one level (:func:`qdsega.agent.genetic.vary_gait`),

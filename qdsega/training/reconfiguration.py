@@ -47,7 +47,7 @@ def warm_state(
     added joints at their ``start`` level, is the elite, not yet verified on the new body
     (distance None, :attr:`qdsega.agent.learner.QDSEGA.untried_path`): elitism puts its
     postures into the first population, and a world with exact physics verifies it before
-    the first generation learns (:meth:`qdsega.training.sims.TrainingSim.verify`),
+    the first generation learns (the training loop, :mod:`qdsega.training.run`),
     which then imitates it (``imitate_elite``) and searches from it (``local_search``).
 
     A source that learnt no generation (a gait ``qdsega adapt`` found) hands on its elite path

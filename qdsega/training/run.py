@@ -21,7 +21,8 @@ import numpy as np
 import yaml
 
 from qdsega.agent.learner import QDSEGA, Generation
-from qdsega.agent.policy import Rollout
+from qdsega.agent.policy import Rollout, SequencePolicy
+from qdsega.agent.verification import Verification
 from qdsega.atomic import replaced_atomically
 from qdsega.description import Formation, World, load_formation
 from qdsega.errors import ConfigError, QdsegaWarning, RunFolderError
@@ -46,6 +47,7 @@ from qdsega.training.sims import (
     Failures,
     TrainingSim,
     build_sim,
+    build_verification,
     check_sim,
     leg_states,
     memo_spots,
@@ -370,6 +372,7 @@ def _run(
         world=load_run_world(out),
         measuring=None if progress is None else ProgressLine,
     )
+    verification = build_verification(config)
     try:
         learner = QDSEGA(
             config=config.agent,
@@ -397,6 +400,7 @@ def _run(
             try:
                 learner.restore(checkpoint.learner)
                 sim.restore(checkpoint.world)
+                verification.restore(checkpoint.world)
             except ValueError as exc:
                 message = f"{folder.CHECKPOINT} does not fit {folder.CONFIG} ({exc})"
                 raise RunFolderError(message, file=out) from None
@@ -410,24 +414,17 @@ def _run(
                 last = config.agent.genetic.generations
                 while learner.completed < (last if until is None else min(until, last)):
                     before = sim.failures
-                    path = learner.untried_path  # ask: a handed-on path no trial has verified
-                    handed_on = None if path is None else sim.verify(path)
-                    if handed_on is not None:
-                        learner.verify(handed_on)  # tell
+                    path = learner.untried_path  # a handed-on path no trial has verified
+                    if path is not None and sim.exact is not None:
+                        handed_on = _verify_path(sim, verification, learner, path)
                         _record_handed_on(folder, handed_on)
                     generation = learner.step()
-                    optimistic = sim.optimistic_table(generation)
-                    hopeful = None
-                    if optimistic is not None:  # ask: what the table may underrate
-                        hopeful = learner.explore(generation, *optimistic)
-                    trials = sim.replay(generation, learner.levels, hopeful=hopeful)
-                    exact = trials[0]  # the greedy replay
-                    for trial in trials:
-                        learner.verify(trial)  # tell
+                    exact = _verify_generation(sim, verification, learner, generation)
                     elapsed = first_elapsed + time.perf_counter() - session_start
                     sim_steps = simulated + sim.simulated_steps()
+                    world = {**sim.state(), **verification.state()}
                     checkpoint = _advance(
-                        checkpoint, generation, exact, learner, sim, sim_steps, elapsed
+                        checkpoint, generation, exact, learner, world, sim_steps, elapsed
                     )
                     sim.save(out)
                     save_checkpoint(out, checkpoint)
@@ -474,12 +471,13 @@ def _advance(
     generation: Generation,
     exact: Rollout,
     learner: QDSEGA,
-    sim: TrainingSim,
+    world: dict[str, np.ndarray],
     sim_steps: int,
     elapsed_s: float,
 ) -> Checkpoint:
     """The checkpoint after ``generation`` and its exact replay (the learner has already
-    reproduced); ``sim_steps``: the run's simulated steps so far. The generation becomes the
+    reproduced); ``world``: the simulator's and the local search's state; ``sim_steps``: the
+    run's simulated steps so far. The generation becomes the
     result when its exact replay goes strictly farther than the result so far."""
     space = generation.space
     result, result_policy, gait = checkpoint.result, checkpoint.result_policy, checkpoint.gait
@@ -508,7 +506,7 @@ def _advance(
         poses=np.concatenate([checkpoint.poses, generation.greedy.poses[None]]),
         exact_poses=np.concatenate([checkpoint.exact_poses, exact.poses[None]]),
         gait=gait,
-        world=sim.state(),
+        world=world,
         env_steps=checkpoint.env_steps + generation.steps,
         elapsed_s=elapsed_s,
         result=result,
@@ -601,6 +599,38 @@ def _finish(
     }
     folder.write_json(folder.SUMMARY, summary)
     return summary
+
+
+def _verify_path(
+    sim: TrainingSim, verification: Verification, learner: QDSEGA, path: np.ndarray
+) -> Rollout:
+    """Play ``path`` (k, J), the path a warm start handed on, open loop with exact physics,
+    and tell the learner and the local search how far it walked."""
+    (trial,) = sim.play([SequencePolicy(commands=path)])
+    sim.observe([trial], sim.provider.start_posture())
+    verification.tell([trial])
+    learner.verify(trial)
+    return trial
+
+
+def _verify_generation(
+    sim: TrainingSim, verification: Verification, learner: QDSEGA, generation: Generation
+) -> Rollout:
+    """Play what the learner asks of exact physics for ``generation`` (nothing where its world
+    is exact) and tell it; returns the greedy policy's exact trial."""
+    if sim.exact is None:
+        sim.count([generation.greedy])
+        learner.verify(generation.greedy)
+        return generation.greedy
+    played = sim.play(verification.ask(learner, generation, sim.grounded))
+    greedy = played[-1]
+    verification.tell([greedy])
+    searched = sim.play(verification.neighbours(generation.index, learner.levels))
+    verification.tell(searched)
+    sim.observe([*played[:-1], *searched, greedy], generation.space.postures[0])
+    for trial in [greedy, *searched]:
+        learner.verify(trial)
+    return greedy
 
 
 def _record_handed_on(folder: RunFolder, trial: Rollout) -> None:

@@ -22,11 +22,10 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from qdsega.agent.boltzmann import temperature
-from qdsega.agent.genetic import vary_gait
 from qdsega.agent.grounding import GroundedTransitions
-from qdsega.agent.learner import Generation
-from qdsega.agent.policy import BoltzmannPolicy, Policy, Rollout, SequencePolicy
-from qdsega.agent.world import TransitionProvider, Transitions
+from qdsega.agent.policy import Policy, Rollout
+from qdsega.agent.verification import Verification
+from qdsega.agent.world import TransitionProvider
 from qdsega.agent.world import World as StepWorld
 from qdsega.description import Formation, World
 from qdsega.errors import ConfigError, FormationError
@@ -43,9 +42,6 @@ _NUMBERS = re.compile(r" by -?[\d.]+ deg| \(tilt -?[\d.]+ deg\)")
 """The measured part of a failure message, left out where failures are counted by kind."""
 VARIED_GROUND_SPOTS = 6
 """Places a move is measured from in memo mode where the ground varies (1.25 m of the way)."""
-_SEARCH_STREAM = 1_000_000
-"""Local-search trials of generation ``g`` draw from a generator seeded ``(seed, g, this)``,
-a stream no exploring trial uses."""
 
 
 @dataclass(frozen=True)
@@ -89,28 +85,17 @@ class Failures:
 
 @dataclass
 class TrainingSim:
-    """A world, its exact twin, and what the run needs to know about them.
+    """A world, its exact twin, and what the run needs to know about them. It only plays
+    trials: which ones is asked of the learner (:class:`qdsega.agent.verification.Verification`).
 
     Attributes:
         provider: the world the learner runs in: a posture-transition table, or a
             step-by-step world (exact physics).
-        exact: exact-physics trials to replay each generation's greedy policy in (spread
-            over the run's workers); None where ``provider`` is exact itself (the MSM,
-            PyBullet).
-        grounded: the table that exact replays correct (memo mode with ``ground_table``;
+        exact: exact-physics trials to replay what the learner asks (spread over the run's
+            workers); None where ``provider`` is exact itself (the MSM, PyBullet).
+        grounded: the table that exact trials correct (memo mode with ``ground_table``;
             it is also ``provider``), else None.
         task: the rules.
-        explore: exploring trials replayed with exact physics each generation besides the
-            greedy one (memo mode), and the Boltzmann temperature they draw actions at.
-        optimism: with a grounded table, the upper confidence bound (in RMS gaps) of one more
-            exploring trial, the greedy policy learnt on that bound; 0 for none.
-        local_search: memo mode: neighbours of the best exact trial so far (one character of
-            one of its postures varied, or one joint's timing, :func:`qdsega.agent.genetic.
-            vary_gait`) replayed with exact physics each generation and offered to the
-            learner's elite; 0 for none.
-        phase_moves: the share of those neighbours that shift one joint's timing.
-        seed: the run's seed; exploring trial ``k`` of generation ``g`` draws from a generator
-            seeded ``(seed, g, k)``, so a resumed run draws the same, whichever worker runs it.
         optimum: the exact optimum where one is known (the MSM), else None.
         layout: the legs, for gait figures; None for a legless formation.
         world: the ground it walks on.
@@ -122,101 +107,31 @@ class TrainingSim:
     task: Task
     optimum: Optimum | None
     layout: LegLayout | None
-    explore: tuple[int, float] = (0, 1.0)
-    optimism: float = 0.0
-    local_search: int = 0
-    phase_moves: float = 0.0
-    seed: int = 0
     world: World = field(default_factory=World)
-    _best: tuple[np.ndarray, float] | None = field(default=None, init=False, repr=False)
-    """The commands (k, J) and distance (m) of the best local-search parent so far."""
     failures: Failures = field(default_factory=Failures, init=False)
     """How the run's verified trials (exact, or the learner's own where its world is exact)
     failed so far."""
 
-    def optimistic_table(
-        self, generation: Generation
-    ) -> tuple[Transitions, np.random.Generator] | None:
-        """With a grounded table and ``optimism``: the table's upper bound over
-        ``generation``'s space, and the generator one more learning phase on it draws from,
-        so that the learner can propose the greedy policy the table may underrate (exact
-        physics tries it in :meth:`replay`); else None."""
-        if self.grounded is None or self.optimism <= 0:
-            return None
-        space = generation.space
-        upper = self.grounded.transitions(space.postures, space.actions, confidence=self.optimism)
-        return upper, np.random.default_rng([self.seed, generation.index, self.explore[0]])
-
-    def replay(
-        self, generation: Generation, levels: np.ndarray, *, hopeful: Policy | None = None
-    ) -> list[Rollout]:
-        """The generation's greedy policy replayed with exact physics (its own greedy trial
-        where the learner's world is exact), then ``local_search`` neighbours of the best
-        exact trial so far (:meth:`_search`; ``levels``: each joint's level count): the trials
-        to tell the learner. A grounded table learns their moves, and those of ``explore``
-        trials of the generation's policy at the Boltzmann temperature and of ``hopeful`` (the
-        policy learnt on :meth:`optimistic_table`); the greedy replay is observed last."""
-        if self.exact is None:
-            self.failures = self.failures.add([generation.greedy])
-            return [generation.greedy]
-        policies: list[Policy] = [generation.policy]
-        if self.grounded is not None:  # exploring trials first: the greedy one is seen last
-            trials, temperature = self.explore
-            if hopeful is not None:
-                policies.insert(0, hopeful)
-            policies = [
-                BoltzmannPolicy(
-                    greedy=generation.policy,
-                    temperature=temperature,
-                    rng=np.random.default_rng([self.seed, generation.index, k]),
-                )
-                for k in range(trials)
-            ] + policies
-        outcomes = self.exact.rollouts(policies, steps=self.task.trial_steps)
-        greedy = outcomes[-1]
-        searched = self._search(generation.index, levels, greedy)
-        if self.grounded is not None:
-            for trial in [*outcomes[:-1], *searched, greedy]:
-                self.grounded.observe(trial, generation.space.postures[0])
-        self.failures = self.failures.add([*outcomes, *searched])
-        return [greedy, *searched]
-
-    def verify(self, path: np.ndarray) -> Rollout | None:
-        """Replay ``path`` (k, J), a path a warm start handed on, open loop with exact physics;
-        a grounded table learns its moves and the local search may take it as its parent.
-        Returns the trial, for the learner to be told; None without exact physics."""
-        if self.exact is None:
-            return None
-        (trial,) = self.exact.rollouts([SequencePolicy(commands=path)], steps=self.task.trial_steps)
-        if self.grounded is not None:
-            self.grounded.observe(trial, self.provider.start_posture())
-        self._keep_best(trial)
-        self.failures = self.failures.add([trial])
-        return trial
-
-    def _search(self, index: int, levels: np.ndarray, greedy: Rollout) -> list[Rollout]:
-        """A (1 + ``local_search``) evolution strategy in exact physics: the parent is the best
-        trial so far among greedy replays and earlier neighbours; its neighbours are replayed
-        open loop (:class:`qdsega.agent.policy.SequencePolicy`)."""
-        if self.local_search == 0 or self.exact is None:
+    def play(self, policies: list[Policy]) -> list[Rollout]:
+        """Each of ``policies`` played once with exact physics, in order; their failures are
+        counted."""
+        if not policies:
             return []
-        self._keep_best(greedy)
-        assert self._best is not None
-        rng = np.random.default_rng([self.seed, index, _SEARCH_STREAM])
-        neighbours = [
-            SequencePolicy(
-                commands=vary_gait(self._best[0], levels, rng, phase_share=self.phase_moves)
-            )
-            for _ in range(self.local_search)
-        ]
-        trials = self.exact.rollouts(neighbours, steps=self.task.trial_steps)
-        for trial in trials:
-            self._keep_best(trial)
+        assert self.exact is not None, "only a world with an exact twin plays trials"
+        trials = self.exact.rollouts(policies, steps=self.task.trial_steps)
+        self.count(trials)
         return trials
 
-    def _keep_best(self, trial: Rollout) -> None:
-        if self._best is None or trial.distance_m > self._best[1]:
-            self._best = (trial.postures.copy(), trial.distance_m)
+    def count(self, trials: list[Rollout]) -> None:
+        """Add ``trials``' failures to :attr:`failures`."""
+        self.failures = self.failures.add(trials)
+
+    def observe(self, trials: list[Rollout], start: np.ndarray) -> None:
+        """A grounded table learns the moves of ``trials`` (in order: the last one seen
+        wins), each from posture ``start``; nothing without one."""
+        if self.grounded is not None:
+            for trial in trials:
+                self.grounded.observe(trial, start)
 
     def simulated_steps(self) -> int:
         """Upper-agent steps simulated in PyBullet by this world so far: memo transitions
@@ -227,14 +142,10 @@ class TrainingSim:
         return sum(getattr(world, name, 0) for world, name in counters)
 
     def state(self) -> dict[str, np.ndarray]:
-        """What the run's history put into the world (grounded observations; the local
-        search's parent: ``search_commands`` (k, J) and ``search_distance_m`` (1,); the
+        """What the run's history put into the world (grounded observations; the
         failures: ``failure_kinds``, ``failure_counts`` and ``failure_totals`` (commands,
         trials)), as arrays."""
         state = {} if self.grounded is None else self.grounded.state()
-        if self._best is not None:
-            state["search_commands"] = self._best[0]
-            state["search_distance_m"] = np.array([self._best[1]])
         if self.failures.trials:
             kinds = self.failures.kinds
             state["failure_kinds"] = np.array(list(kinds), dtype=str)
@@ -244,13 +155,9 @@ class TrainingSim:
         return state
 
     def restore(self, state: dict[str, np.ndarray]) -> None:
-        """Return to :meth:`state`."""
+        """Return to :meth:`state` (other keys are ignored)."""
         if self.grounded is not None and state:
             self.grounded.restore(state)
-        self._best = None
-        if "search_commands" in state:
-            commands = state["search_commands"].astype(np.int64)
-            self._best = (commands, float(state["search_distance_m"][0]))
         self.failures = Failures()
         if "failure_totals" in state:
             commands, trials = (int(n) for n in state["failure_totals"])
@@ -348,6 +255,12 @@ def build_sim(
         memo.load(run / RunFolder.TRANSITIONS)
     grounded = GroundedTransitions(base=memo) if config.ground_table else None
     provider = grounded if grounded is not None else memo
+    exact = ExactTrials(formation=formation, rules=rules, workers=config.workers)
+    return TrainingSim(provider, exact, grounded, task, None, layout, world=rules.world)
+
+
+def build_verification(config: TrainingConfig) -> Verification:
+    """The exact trials a memo run asks for each generation, as ``config`` sets them."""
     learning = config.agent.learning
     last = temperature(
         learning.trials - 1,
@@ -355,16 +268,9 @@ def build_sim(
         learning.temperature_rate,
         learning.temperature_offset,
     )
-    exact = ExactTrials(formation=formation, rules=rules, workers=config.workers)
-    return TrainingSim(
-        provider,
-        exact,
-        grounded,
-        task,
-        None,
-        layout,
-        world=rules.world,
-        explore=(config.explore_trials, last),
+    return Verification(
+        explore_trials=config.explore_trials,
+        temperature=last,
         optimism=config.optimism,
         local_search=config.local_search,
         phase_moves=config.phase_moves,
