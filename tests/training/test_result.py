@@ -72,7 +72,7 @@ def _learn(exact_m: list[float]) -> Checkpoint:
     """The checkpoint after generations whose exact replays cover ``exact_m`` (m)."""
     formation = SimpleNamespace(joints=[None] * JOINTS)
     config = SimpleNamespace(task=SimpleNamespace(trial_steps=STEPS))
-    world = SimpleNamespace(state=dict)
+    world: dict = {}
     checkpoint = _first_checkpoint(formation, config, SimpleNamespace(state=lambda: _state(0)))
     for index, distance_m in enumerate(exact_m, start=1):
         learner = SimpleNamespace(state=lambda index=index: _state(index))
