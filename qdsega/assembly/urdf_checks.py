@@ -19,6 +19,8 @@ from qdsega.errors import FormationError
 _INERTIA_TOLERANCE = 1e-12
 """Absolute slack (kg m^2) for the triangle inequality of principal moments."""
 
+Fail = Callable[[str], FormationError]
+
 
 def check_urdf(urdf: str, formation: Formation) -> None:
     """Raise :class:`FormationError` if ``urdf`` is not a sound kinematic tree.
@@ -42,14 +44,15 @@ def check_urdf(urdf: str, formation: Formation) -> None:
         raise fail(f"duplicate link/joint name '{duplicates[0]}'")
     parent_of: dict[str, str] = {}
     for joint in joints:
-        parent = joint.find("parent").get("link")  # type: ignore[union-attr]
-        child = joint.find("child").get("link")  # type: ignore[union-attr]
-        for role, link in (("parent", parent), ("child", child)):
-            if link not in links:
-                raise fail(f"joint '{joint.get('name')}' has unknown {role} link '{link}'")
+        owner = f"joint '{joint.get('name')}'"
+        parent = _attribute(_child(joint, "parent", owner, fail), "link", owner, fail)
+        child = _attribute(_child(joint, "child", owner, fail), "link", owner, fail)
+        for role, end in (("parent", parent), ("child", child)):
+            if end not in links:
+                raise fail(f"joint '{joint.get('name')}' has unknown {role} link '{end}'")
         if child in parent_of:
             raise fail(f"link '{child}' has two parent joints")
-        parent_of[child] = parent  # type: ignore[index,assignment]
+        parent_of[child] = parent
     roots = [name for name in links if name not in parent_of]
     if len(roots) != 1:
         raise fail(f"expected exactly one root link, found {len(roots)}: {roots}")
@@ -66,8 +69,8 @@ def check_urdf(urdf: str, formation: Formation) -> None:
         _check_limits(joint, fail)
     by_joint = {j.get("name"): j for j in joints}
     for actuated in formation.joints:
-        limit = by_joint[actuated.name].find("limit")
-        lower, upper = float(limit.get("lower")), float(limit.get("upper"))  # type: ignore[arg-type,union-attr]
+        limit = _child(by_joint[actuated.name], "limit", f"joint '{actuated.name}'", fail)
+        lower, upper = float(limit.get("lower", "0")), float(limit.get("upper", "0"))
         for level in actuated.levels_rad:
             if not lower - 1e-9 <= level <= upper + 1e-9:
                 raise fail(
@@ -86,16 +89,32 @@ def check_urdf(urdf: str, formation: Formation) -> None:
         raise fail("yourdfpy validation failed")
 
 
-def _check_inertial(link: ET.Element, name: str, fail: Callable[[str], FormationError]) -> None:
-    inertial = link.find("inertial")
-    if inertial is None:
-        raise fail(f"link '{name}' has no <inertial>")
-    mass = float(inertial.find("mass").get("value"))  # type: ignore[union-attr,arg-type]
+def _child(element: ET.Element, tag: str, owner: str, fail: Fail) -> ET.Element:
+    """``element``'s first ``<tag>``; a failure naming ``owner`` where it has none."""
+    found = element.find(tag)
+    if found is None:
+        raise fail(f"{owner} has no <{tag}>")
+    return found
+
+
+def _attribute(element: ET.Element, key: str, owner: str, fail: Fail) -> str:
+    """``element``'s attribute ``key``; a failure naming ``owner`` where it is missing."""
+    value = element.get(key)
+    if value is None:
+        raise fail(f"{owner}: <{element.tag}> has no '{key}'")
+    return value
+
+
+def _check_inertial(link: ET.Element, name: str | None, fail: Fail) -> None:
+    owner = f"link '{name}'"
+    inertial = _child(link, "inertial", owner, fail)
+    mass = float(_attribute(_child(inertial, "mass", owner, fail), "value", owner, fail))
     if not mass > 0:
         raise fail(f"link '{name}' mass must be positive, got {mass}")
-    attrs = inertial.find("inertia").attrib  # type: ignore[union-attr]
+    inertia = _child(inertial, "inertia", owner, fail)
     ixx, ixy, ixz, iyy, iyz, izz = (
-        float(attrs[k]) for k in ("ixx", "ixy", "ixz", "iyy", "iyz", "izz")
+        float(_attribute(inertia, k, owner, fail))
+        for k in ("ixx", "ixy", "ixz", "iyy", "iyz", "izz")
     )
     tensor = np.array([[ixx, ixy, ixz], [ixy, iyy, iyz], [ixz, iyz, izz]])
     moments = np.linalg.eigvalsh(tensor)
@@ -106,7 +125,7 @@ def _check_inertial(link: ET.Element, name: str, fail: Callable[[str], Formation
         raise fail(f"link '{name}' inertia violates the triangle inequality (moments {moments})")
 
 
-def _check_limits(joint: ET.Element, fail: Callable[[str], FormationError]) -> None:
+def _check_limits(joint: ET.Element, fail: Fail) -> None:
     if joint.get("type") not in ("revolute", "prismatic"):
         return
     limit = joint.find("limit")

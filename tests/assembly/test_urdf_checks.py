@@ -34,6 +34,11 @@ def test_the_shipped_urdf_passes(snake):
         ('ixx="6.25e-05"', 'ixx="0.01"', "triangle inequality"),
         ('lower="-1.57079633"', 'lower="2"', "limits not ordered"),
         ('effort="2.5"', 'effort="0"', "effort limit must be positive"),
+        ('<parent link="u2" />', "", "joint 'u3_joint' has no <parent>"),
+        ('<child link="u3" />', '<child name="u3" />', "joint 'u3_joint': <child> has no 'link'"),
+        ('<mass value="0.15" />', "", "link 'u1' has no <mass>"),
+        ('ixx="6.25e-05"', "", "link 'u1': <inertia> has no 'ixx'"),
+        ('lower="-1.57079633"', "", "joint 'u2_joint': level -20 deg outside limits"),
     ],
 )
 def test_each_check_fails_on_a_crafted_urdf(snake, old, new, message):
