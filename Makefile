@@ -41,8 +41,9 @@ demo: $(BIN)/qdsega
 lint: $(VENV)/extras
 	$(BIN)/ruff check qdsega tools experiments tests
 	$(BIN)/ruff format --check qdsega tools experiments tests
+	$(BIN)/mypy
 
-# Everything: ruff, then every test (the slow end-to-end ones too) on two processes.
+# Everything: ruff and mypy, then every test (the slow end-to-end ones too) on two processes.
 test: lint
 	$(BIN)/pytest -q -n 2 --dist worksteal
 

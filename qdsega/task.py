@@ -29,6 +29,8 @@ from dataclasses import dataclass
 import numpy as np
 from numba import njit
 
+from qdsega.jit import njit_no_refcount
+
 Pose = tuple[float, float, float]
 """A planar pose: x (m), y (m), heading (rad, counter-clockwise from +x)."""
 
@@ -147,7 +149,7 @@ def angle_to_light(x: float, y: float, theta: float, light_x: float, light_y: fl
     return math.atan2(math.sin(angle), math.cos(angle))
 
 
-@njit(cache=True, _nrt=False)
+@njit_no_refcount()
 def exterior_state(
     x: float, y: float, theta: float, light_x: float, light_y: float, edges: np.ndarray
 ) -> int:
@@ -177,7 +179,7 @@ def edge_directions(edges: np.ndarray) -> np.ndarray:
     return directions
 
 
-@njit(cache=True, _nrt=False)
+@njit_no_refcount()
 def exterior_state_ahead(
     x: float,
     y: float,

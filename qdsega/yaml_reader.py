@@ -11,13 +11,14 @@ import math
 from collections.abc import Iterable
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import Any, TypeVar
 
 import yaml
 
 from qdsega.errors import FormationError, QdsegaError
 
 KeyPath = tuple[str | int, ...]
+_Choice = TypeVar("_Choice", bound=str)
 
 
 @dataclass(frozen=True)
@@ -129,41 +130,47 @@ class _Converter:
 
     def plain(self, node: yaml.Node, path: KeyPath, *, record: bool = True) -> Any:
         file = self.file
-        where = {"file": file, "line": node.start_mark.line + 1, "key_path": format_key_path(path)}
+
+        def error(message: str) -> QdsegaError:
+            """``message`` at this node, as the document's error type."""
+            return self.error_type(
+                message, file=file, line=node.start_mark.line + 1, key_path=format_key_path(path)
+            )
+
         if id(node) in self.open:
-            raise self.error_type("a YAML alias inside its own anchor", **where)
+            raise error("a YAML alias inside its own anchor")
         self.values += 1
         if self.values > MAX_YAML_VALUES:
-            raise self.error_type(f"more than {MAX_YAML_VALUES} values (aliases expanded)", **where)
+            raise error(f"more than {MAX_YAML_VALUES} values (aliases expanded)")
         if record:
             self.lines[path] = node.start_mark.line + 1
         if len(path) > MAX_YAML_DEPTH:
-            raise self.error_type(f"nested deeper than {MAX_YAML_DEPTH} levels", **where)
+            raise error(f"nested deeper than {MAX_YAML_DEPTH} levels")
         if isinstance(node, yaml.ScalarNode):
             try:
                 return _SCALAR_CONSTRUCTOR.construct_object(node)
             except yaml.constructor.ConstructorError:
-                raise self.error_type(f"unsupported YAML tag {node.tag}", **where) from None
+                raise error(f"unsupported YAML tag {node.tag}") from None
             except ValueError:  # an integer of more digits than Python converts
                 message = f"a number of {len(node.value)} digits is too long"
-                raise self.error_type(message, **where) from None
+                raise error(message) from None
         if isinstance(node, yaml.SequenceNode):
             if node.tag != "tag:yaml.org,2002:seq":
-                raise self.error_type(f"unsupported YAML tag {node.tag}", **where)
+                raise error(f"unsupported YAML tag {node.tag}")
             self.open.add(id(node))
             items = [self.plain(item, (*path, i)) for i, item in enumerate(node.value)]
             self.open.discard(id(node))
             return items
         if not isinstance(node, yaml.MappingNode):  # pragma: no cover - yaml has 3 kinds
-            raise self.error_type("unsupported YAML node", **where)
+            raise error("unsupported YAML node")
         if node.tag != "tag:yaml.org,2002:map":
-            raise self.error_type(f"unsupported YAML tag {node.tag}", **where)
+            raise error(f"unsupported YAML tag {node.tag}")
         self.open.add(id(node))
         result: dict[str, Any] = {}
         for key_node, value_node in node.value:
             key = self.plain(key_node, path, record=False)
             if not isinstance(key, str):
-                raise self.error_type(f"keys must be text, got {_clip(key)}", **where)
+                raise error(f"keys must be text, got {_clip(key)}")
             if key in result:
                 raise self.error_type(
                     "duplicate key",
@@ -219,7 +226,7 @@ class Reader:
             raise self.error(path, f"expected non-empty text, got {_kind(value)}")
         return value
 
-    def choice(self, path: KeyPath, value: Any, choices: Iterable[str]) -> str:
+    def choice(self, path: KeyPath, value: Any, choices: Iterable[_Choice]) -> _Choice:
         options = list(choices)
         if value not in options:
             raise self.error(path, f"expected one of {', '.join(options)}, got {_clip(value)}")
@@ -247,12 +254,13 @@ class Reader:
             raise self.error(path, f"must be in {within}, got {_clip(value)}")
         return value
 
-    def vector(self, path: KeyPath, value: Any, length: int, within: Interval) -> tuple[float, ...]:
-        """``value`` as ``length`` numbers, each in ``within``."""
+    def triple(self, path: KeyPath, value: Any, within: Interval) -> tuple[float, float, float]:
+        """``value`` as 3 numbers (a position, a size, an axis), each in ``within``."""
         items = self.sequence(path, value)
-        if len(items) != length:
-            raise self.error(path, f"expected {length} numbers, got {len(items)}")
-        return tuple(self.number((*path, i), x, within) for i, x in enumerate(items))
+        if len(items) != 3:
+            raise self.error(path, f"expected 3 numbers, got {len(items)}")
+        x, y, z = (self.number((*path, i), item, within) for i, item in enumerate(items))
+        return (x, y, z)
 
 
 def _kind(value: Any) -> str:

@@ -7,6 +7,8 @@ import math
 import numpy as np
 from numba import njit
 
+from qdsega.jit import njit_no_refcount
+
 UNDERFLOW = -746.0
 """Below this, ``math.exp`` returns exactly 0.0 in float64."""
 _LOG2E = 1.4426950408889634
@@ -41,7 +43,7 @@ def boltzmann_select(q_row: np.ndarray, temp: float, u: float, weights: np.ndarr
     return boltzmann_select_below(q_row, top, temp, u, weights)
 
 
-@njit(cache=True, _nrt=False)
+@njit_no_refcount()
 def boltzmann_select_below(
     q_row: np.ndarray, top: float, temp: float, u: float, weights: np.ndarray
 ) -> int:
@@ -79,7 +81,7 @@ def boltzmann_select_below(
     return n - 1
 
 
-@njit(cache=True, _nrt=False)
+@njit_no_refcount()
 def live_actions(
     q_row: np.ndarray, top: float, temp: float, slack: float, limit: int, members: np.ndarray
 ) -> int:
@@ -105,7 +107,7 @@ def live_actions(
     return m
 
 
-@njit(cache=True, fastmath=True, _nrt=False)
+@njit_no_refcount(fastmath=True)
 def _approximate_weights(
     q_row: np.ndarray, top: float, scale: float, weights: np.ndarray, bits: np.ndarray
 ) -> float:
@@ -130,7 +132,7 @@ def _approximate_weights(
     return total
 
 
-@njit(cache=True, _nrt=False)
+@njit_no_refcount()
 def boltzmann_select_fast(
     q_row: np.ndarray,
     top: float,

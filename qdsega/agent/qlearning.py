@@ -15,9 +15,9 @@ and runs ``trial_steps`` commands or until the lower agent fails. Each step:
    other (a time limit is not a terminal state).
 
 The rules (reward, exterior state, pose integration) are :mod:`qdsega.task`'s compiled kernels.
-The helpers called at every step are compiled with ``_nrt=False``: numba would otherwise
-reference-count every array they are passed, an atomic operation each (30 ns a call with three
-arrays, measured); such helpers must not allocate arrays.
+The helpers called at every step are compiled without reference counting
+(:func:`qdsega.jit.njit_no_refcount`; 30 ns saved a call with three arrays, measured); such
+helpers must not allocate arrays.
 """
 
 from __future__ import annotations
@@ -33,6 +33,7 @@ from qdsega.agent.boltzmann import (
     live_actions,
     temperature,
 )
+from qdsega.jit import njit_no_refcount
 from qdsega.task import (
     edge_directions,
     exterior_state,
@@ -48,7 +49,7 @@ def q_update(q: float, reward: float, best_next: float, alpha: float, gamma: flo
     return (1.0 - alpha) * q + alpha * (reward + gamma * best_next)
 
 
-@njit(cache=True, _nrt=False)
+@njit_no_refcount()
 def _scan_row(row: np.ndarray, s: int, stats: np.ndarray, arg: np.ndarray) -> None:
     """Row ``s``'s statistics from scratch: ``stats[s] = (max, max over the other actions,
     1.0 = valid)`` and ``arg[s]`` the first action with the max (ties: the second max is the
@@ -65,7 +66,7 @@ def _scan_row(row: np.ndarray, s: int, stats: np.ndarray, arg: np.ndarray) -> No
     arg[s] = best
 
 
-@njit(cache=True, _nrt=False)
+@njit_no_refcount()
 def _row_top(q: np.ndarray, s: int, stats: np.ndarray, arg: np.ndarray) -> float:
     """max Q(s, .), rescanning row ``s`` where an update left its statistics stale."""
     if stats[s, 2] == 0.0:
@@ -80,7 +81,7 @@ _SLACK = 50.0
 they stay a superset of those with weight while the row's max falls less than it times T."""
 
 
-@njit(cache=True, _nrt=False)
+@njit_no_refcount()
 def _choose(
     q: np.ndarray,
     s: int,
@@ -118,7 +119,7 @@ def _choose(
     return boltzmann_select_fast(q[s], top, stats[s, 1], arg[s], temp, u, weights, bits)
 
 
-@njit(cache=True, _nrt=False)
+@njit_no_refcount()
 def _update_stats(s: int, a: int, new: float, stats: np.ndarray, arg: np.ndarray) -> None:
     """Keep row ``s``'s statistics (valid ones) after Q(s, a) became ``new``: the bound on
     the second max holds as the others fall, and the row is rescanned once its best falls

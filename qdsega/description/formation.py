@@ -168,11 +168,13 @@ class Formation:
     def joints(self) -> tuple[ActuatedJoint, ...]:
         """Actuated joints in formation order: the learner's action dimensions (computed
         once: a formation is immutable)."""
-        return tuple(
-            ActuatedJoint(u.joint_name, u.name, u.levels_rad, u.unit_type.joint)  # type: ignore[arg-type]
-            for u in self.units
-            if u.is_actuated
-        )
+        joints = []
+        for u in self.units:
+            if u.is_actuated:
+                # an actuated unit has a parent (so a joint name) and an active unit type
+                assert u.joint_name is not None and u.unit_type.joint is not None
+                joints.append(ActuatedJoint(u.joint_name, u.name, u.levels_rad, u.unit_type.joint))
+        return tuple(joints)
 
     @cached_property
     def unit_index(self) -> dict[str, int]:

@@ -13,7 +13,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from qdsega.description.formation import Formation, Friction, Leg, Light, PlacedUnit
+from qdsega.description.formation import Formation, Friction, Leg, Light, PlacedUnit, Side
 from qdsega.description.limits import (
     ANGLE_DEG,
     AXIS_COMPONENT,
@@ -26,7 +26,7 @@ from qdsega.description.limits import (
 )
 from qdsega.description.shipped import UNITS_DIR
 from qdsega.description.unit_type import JointSpec, UnitType, find_unit_type, load_unit_type
-from qdsega.errors import FormationError
+from qdsega.errors import FormationError, QdsegaError
 from qdsega.yaml_reader import KeyPath, Reader, load_yaml
 
 AXES = {"roll": (1.0, 0.0, 0.0), "pitch": (0.0, 1.0, 0.0), "yaw": (0.0, 0.0, 1.0)}
@@ -106,7 +106,7 @@ def load_formation(file: Path | str, *, units_dir: Path | None = None) -> Format
     )
 
 
-def _error(reader: Reader, raw: _RawUnit, key: str, message: str) -> FormationError:
+def _error(reader: Reader, raw: _RawUnit, key: str, message: str) -> QdsegaError:
     source = raw.fields.get(key)
     path = source.path if source is not None else raw.path
     return reader.error(path, message + raw.note)
@@ -119,8 +119,8 @@ def _read_friction(reader: Reader, path: KeyPath, value: Any, default: Friction 
     if "lateral" in raw:
         lateral = reader.number((*path, "lateral"), raw["lateral"], FRICTION)
     if "anisotropic" in raw:
-        anisotropic = reader.vector((*path, "anisotropic"), raw["anisotropic"], 3, FRICTION)
-    return Friction(lateral=lateral, anisotropic=anisotropic)  # type: ignore[arg-type]
+        anisotropic = reader.triple((*path, "anisotropic"), raw["anisotropic"], FRICTION)
+    return Friction(lateral=lateral, anisotropic=anisotropic)
 
 
 def read_light(reader: Reader, path: KeyPath, value: Any) -> Light:
@@ -296,11 +296,11 @@ def _read_unit(
     friction = default_friction
     if "friction" in f:
         friction = _read_friction(reader, f["friction"].path, f["friction"].value, default_friction)
-    has_joint = parent is not None and unit_type.is_active
+    joint = None if parent is None else unit_type.joint  # the root has no joint
     axis: tuple[float, float, float] | None = None
     levels: tuple[float, ...] = ()
     locked: float | None = None
-    if has_joint:
+    if joint is not None:
         locked_source = f.get("locked_deg")
         needed = ("axis",) if locked_source is not None else ("axis", "levels_deg")
         for key in needed:
@@ -308,10 +308,10 @@ def _read_unit(
                 raise _error(reader, raw, "unit", f"active unit '{raw.name}' needs '{key}'")
         axis = _read_axis(reader, f["axis"], raw)
         if "levels_deg" in f:
-            levels = _read_levels(reader, f["levels_deg"], raw, unit_type.joint)  # type: ignore[arg-type]
+            levels = _read_levels(reader, f["levels_deg"], raw, joint)
         if locked_source is not None:  # a broken joint: fixed at this angle, no levels
             degrees = _read_level(reader, locked_source.path, locked_source.value, raw,
-                                  unit_type.joint, "locked angle")  # type: ignore[arg-type]  # fmt: skip
+                                  joint, "locked angle")  # fmt: skip
             locked, levels = math.radians(degrees), ()
     else:
         for key in ("axis", "levels_deg", "locked_deg"):
@@ -336,7 +336,7 @@ def _read_axis(reader: Reader, source: _Value, raw: _RawUnit) -> tuple[float, fl
         if source.value not in AXES:
             raise _error(reader, raw, "axis", f"expected one of {', '.join(AXES)} or [x, y, z]")
         return AXES[source.value]
-    x, y, z = reader.vector(source.path, source.value, 3, AXIS_COMPONENT)
+    x, y, z = reader.triple(source.path, source.value, AXIS_COMPONENT)
     norm = math.hypot(x, y, z)
     if norm < 1e-9:
         raise _error(reader, raw, "axis", "axis vector must not be zero")
@@ -446,7 +446,7 @@ def _tree_order(
             "parent",
             f"unit '{stray.name}' is in a cycle (never reaches the root)",
         )
-    used: dict[tuple[str, str], str] = {}
+    used: dict[tuple[str | None, str | None], str] = {}
     for unit in ordered[1:]:
         key = (unit.parent, unit.connector)
         if key in used:
@@ -456,7 +456,7 @@ def _tree_order(
                 "connector",
                 f"connector '{unit.connector}' of '{unit.parent}' is already used by '{used[key]}'",
             )
-        used[key] = unit.name  # type: ignore[index]
+        used[key] = unit.name
     return ordered
 
 
@@ -464,15 +464,18 @@ def _resolve_legs(
     reader: Reader, specs: list[tuple[_RawUnit, _Template]], units: dict[str, PlacedUnit]
 ) -> tuple[list[Leg], list[Leg]]:
     """The leg instances: working ones, and broken ones (a joint locked)."""
-    legs, broken = [], []
+    legs: list[Leg] = []
+    broken: list[Leg] = []
     for instance, template in specs:
+        assert template.leg is not None  # only templates with a leg make leg specs
         if "side" not in instance.fields:
             raise _error(reader, instance, "name", "a leg instance needs 'side' (left or right)")
-        side = reader.choice(
+        side: Side = reader.choice(
             instance.fields["side"].path, instance.fields["side"].value, ("left", "right")
         )
-        joints, locked = [], False
-        for role, source in zip(("swing", "lift"), template.leg, strict=True):  # type: ignore[arg-type]
+        joints: list[str] = []
+        locked = False
+        for role, source in zip(("swing", "lift"), template.leg, strict=True):
             unit = units[f"{instance.name}_{source.value}"]
             locked = locked or unit.locked_rad is not None
             if unit.locked_rad is None and (not unit.is_actuated or len(unit.levels_rad) != 2):
@@ -480,8 +483,9 @@ def _resolve_legs(
                     source.path,
                     f"a leg's {role} unit needs a joint with exactly 2 levels{instance.note}",
                 )
+            assert unit.joint_name is not None  # a leg's unit has a parent, so a joint
             joints.append(unit.joint_name)
         leg_units = tuple(f"{instance.name}_{unit['name']}" for _, unit in template.units)
-        leg = Leg(instance.name, side, joints[0], joints[1], leg_units)  # type: ignore[arg-type]
+        leg = Leg(instance.name, side, joints[0], joints[1], leg_units)
         (broken if locked else legs).append(leg)
     return legs, broken

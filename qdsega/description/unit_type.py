@@ -144,9 +144,13 @@ def load_unit_type(units_dir: Path, name: str) -> UnitType:
     for key, value in connectors_raw.items():
         path = ("connectors", key)
         entry = reader.mapping(path, value, required=("xyz_m",), optional=("rpy_deg",))
-        xyz = reader.vector((*path, "xyz_m"), entry["xyz_m"], 3, POSITION_M)
-        rpy = reader.vector((*path, "rpy_deg"), entry.get("rpy_deg", [0, 0, 0]), 3, ANGLE_DEG)
-        connectors[key] = Connector(key, xyz, tuple(math.radians(a) for a in rpy))  # type: ignore[arg-type]
+        xyz = reader.triple((*path, "xyz_m"), entry["xyz_m"], POSITION_M)
+        roll, pitch, yaw = reader.triple(
+            (*path, "rpy_deg"), entry.get("rpy_deg", [0, 0, 0]), ANGLE_DEG
+        )
+        connectors[key] = Connector(
+            key, xyz, (math.radians(roll), math.radians(pitch), math.radians(yaw))
+        )
     template_name = reader.text(("link_template",), raw["link_template"])
     template_file = folder / template_name
     if not template_file.resolve().is_relative_to(folder.resolve()):

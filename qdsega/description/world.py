@@ -279,8 +279,8 @@ def _stairs(reader: Reader, value: Any) -> Stairs | None:
 def _box(reader: Reader, path: KeyPath, value: Any) -> Box:
     raw = reader.mapping(path, value, required=("xyz_m", "size_m"), optional=("yaw_deg",))
     return Box(
-        xyz_m=reader.vector((*path, "xyz_m"), raw["xyz_m"], 3, POSITION_M),  # type: ignore[arg-type]
-        size_m=reader.vector((*path, "size_m"), raw["size_m"], 3, LENGTH_M),  # type: ignore[arg-type]
+        xyz_m=reader.triple((*path, "xyz_m"), raw["xyz_m"], POSITION_M),
+        size_m=reader.triple((*path, "size_m"), raw["size_m"], LENGTH_M),
         yaw_rad=math.radians(
             reader.number((*path, "yaw_deg"), raw.get("yaw_deg", 0.0), BEARING_DEG)
         ),
