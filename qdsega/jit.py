@@ -18,4 +18,4 @@ def njit_no_refcount(*, fastmath: bool = False) -> Callable[[_Function], Dispatc
     operation each; a helper compiled so must not allocate arrays.
     """
     # _nrt is an option numba reads but its type stubs leave out of njit's keywords.
-    return njit(cache=True, fastmath=fastmath, _nrt=False)
+    return njit(cache=True, fastmath=fastmath, _nrt=False)  # type: ignore[call-overload]

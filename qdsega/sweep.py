@@ -283,7 +283,7 @@ def run_sweep(
         processes=jobs,
         ray=ray,
         label="sweep",
-        report=lambda job, error: report(job.run, error or "ok"),  # type: ignore[attr-defined]
+        report=lambda job, error: report(job.run, error or "ok"),
         progress=progress,
     )
     rows = [

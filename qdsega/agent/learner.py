@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import copy
 import time
-from collections.abc import Iterator
+from collections.abc import Iterator, Mapping
 from dataclasses import dataclass
 from typing import Any
 
@@ -88,7 +88,7 @@ class LearnerState:
 
     completed: int
     population: np.ndarray
-    rng_state: dict[str, Any]
+    rng_state: Mapping[str, Any]
     previous: tuple[ExplorationSpace, np.ndarray] | None
     elite: tuple[np.ndarray, float | None]
     elite_path: np.ndarray | None = None
@@ -271,7 +271,7 @@ class QDSEGA:
         distances = np.zeros(trials)
         fell = np.zeros(trials, dtype=np.bool_)
         if isinstance(self.world, World):
-            steps = self._learn_in_world(space, q, uses, distances, fell)
+            steps = self._learn_in_world(space, self.world, q, uses, distances, fell)
             greedy_world: World = self.world
         else:
             table = self.world.transitions(space.postures, space.actions)
@@ -352,6 +352,7 @@ class QDSEGA:
     def _learn_in_world(
         self,
         space: ExplorationSpace,
+        world: World,
         q: np.ndarray,
         uses: np.ndarray,
         distances: np.ndarray,
@@ -361,7 +362,7 @@ class QDSEGA:
         learning = self.config.learning
         return learn_on_world(
             q,
-            self.world,  # type: ignore[arg-type]
+            world,
             space.actions,
             space.next_interior,
             n_exterior=self.task.n_exterior,

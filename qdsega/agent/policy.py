@@ -86,8 +86,12 @@ class GreedyPolicy:
 class Policy(Protocol):
     """Chooses an action index in (interior, exterior) over ``actions`` (A, J)."""
 
-    actions: np.ndarray
-    next_interior: np.ndarray
+    # read-only members, so that a frozen GreedyPolicy is a Policy too
+    @property
+    def actions(self) -> np.ndarray: ...
+
+    @property
+    def next_interior(self) -> np.ndarray: ...
 
     def act(self, interior: int, exterior: int) -> int: ...
 

@@ -60,6 +60,14 @@ class Paths:
         return cls(np.full((1, targets), -1, dtype=np.int64), zeros, zeros, zeros, zeros > 0)
 
 
+CompiledTable = tuple[
+    np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray,
+    np.ndarray, np.ndarray, np.ndarray, np.ndarray,
+    np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray,
+]  # fmt: skip
+"""The 14 arrays of :meth:`Transitions.compiled`, in the compiled loop's argument order."""
+
+
 @dataclass(frozen=True)
 class Transitions:
     """Body-frame outcome of commanding each ``to`` posture from each ``from`` posture.
@@ -130,31 +138,33 @@ class Transitions:
         t, r = self.row(h, i)
         return float(t.dx[r, a]), float(t.dy[r, a]), float(t.dtheta[r, a]), bool(t.failed[r, a]), -1
 
-    def compiled(self) -> tuple[np.ndarray, ...]:
+    def compiled(self) -> CompiledTable:
         """The arrays the compiled loop takes: dx, dy, dtheta, failed (n, m); context
         (n + 1, n) (all -1 without context); the in-context rows' dx, dy, dtheta, failed
         (R, m); and the paths' child (N, m), dx, dy, dtheta, failed (N,)."""
         n, m = np.shape(self.dx)
-        plain = tuple(
+        dx, dy, dtheta = (
             np.ascontiguousarray(a, dtype=np.float64) for a in (self.dx, self.dy, self.dtheta)
         )
         failed = np.ascontiguousarray(self.failed, dtype=np.bool_)
         paths = self.paths or Paths.none(m)
+        path_dx, path_dy, path_dtheta = (
+            np.ascontiguousarray(a, dtype=np.float64) for a in (paths.dx, paths.dy, paths.dtheta)
+        )
         walk = (
             np.ascontiguousarray(paths.child, dtype=np.int64),
-            *(
-                np.ascontiguousarray(a, dtype=np.float64)
-                for a in (paths.dx, paths.dy, paths.dtheta)
-            ),
+            path_dx,
+            path_dy,
+            path_dtheta,
             np.ascontiguousarray(paths.failed, dtype=np.bool_),
         )
         if self.context is None or self.in_context is None:
             empty = np.zeros((0, m))
-            return (*plain, failed, np.full((n + 1, n), -1, dtype=np.int64), empty, empty, empty,
-                    np.zeros((0, m), dtype=np.bool_), *walk)  # fmt: skip
+            return (dx, dy, dtheta, failed, np.full((n + 1, n), -1, dtype=np.int64), empty, empty,
+                    empty, np.zeros((0, m), dtype=np.bool_), *walk)  # fmt: skip
         inner = self.in_context.compiled()
-        return (*plain, failed, np.ascontiguousarray(self.context, dtype=np.int64), *inner[:4],
-                *walk)  # fmt: skip
+        return (dx, dy, dtheta, failed, np.ascontiguousarray(self.context, dtype=np.int64),
+                *inner[:4], *walk)  # fmt: skip
 
 
 class TransitionProvider(Protocol):

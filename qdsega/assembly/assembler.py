@@ -60,6 +60,7 @@ def assemble(formation: Formation) -> AssembledRobot:
         total_mass += properties[unit.unit_type.name].mass_kg
     by_name = formation.units_by_name
     for unit in formation.units[1:]:
+        assert unit.parent is not None and unit.connector is not None  # every unit but the root
         robot.append(_joint(unit, by_name[unit.parent].unit_type.connectors[unit.connector]))
     ET.indent(robot, space="  ")
     urdf = '<?xml version="1.0"?>\n' + ET.tostring(robot, encoding="unicode") + "\n"

@@ -5,6 +5,7 @@ from __future__ import annotations
 import xml.etree.ElementTree as ET
 from dataclasses import dataclass
 from pathlib import Path
+from typing import cast
 
 import numpy as np
 import trimesh
@@ -37,7 +38,8 @@ def link_mass_properties(link: ET.Element, mass_kg: float, *, folder: Path) -> M
     contributes its volume; shapes must not overlap.
     """
     meshes = [_collision_mesh(c, folder) for c in link.findall("collision")]
-    combined = trimesh.util.concatenate(meshes)
+    # concatenate is annotated as returning any Geometry; of Trimesh meshes it makes a Trimesh
+    combined = cast(trimesh.Trimesh, trimesh.util.concatenate(meshes))
     volume = float(combined.volume)
     if not volume > 0.0:
         raise FormationError(f"link {link.get('name')}: collision volume must be positive")
@@ -77,8 +79,8 @@ def _origin_transform(origin: ET.Element | None) -> np.ndarray:
     if origin is None:
         return np.eye(4)
     xyz = _floats(origin.get("xyz", "0 0 0"), 3, "origin xyz", POSITION_M)
-    rpy = _floats(origin.get("rpy", "0 0 0"), 3, "origin rpy", ROTATION_RAD)
-    transform = trimesh.transformations.euler_matrix(*rpy, axes="sxyz")
+    roll, pitch, yaw = _floats(origin.get("rpy", "0 0 0"), 3, "origin rpy", ROTATION_RAD)
+    transform = trimesh.transformations.euler_matrix(roll, pitch, yaw, axes="sxyz")
     transform[:3, 3] = xyz
     return transform
 

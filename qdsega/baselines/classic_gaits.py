@@ -21,6 +21,7 @@ from collections.abc import Iterator
 import numpy as np
 
 from qdsega.description import Formation
+from qdsega.description.formation import Side
 
 LEG_CYCLE = (1, 2, 4, 3)
 """A leg's state sequence: land forward, stroke back, lift, swing forward."""
@@ -95,7 +96,8 @@ LEG_GAITS = ("alternating", "wave", "pairs")
 def _phases(formation: Formation, gait: str) -> dict[str, int]:
     """Phase offset (steps of the 4-step cycle) of every leg."""
     phases = {}
-    for side_offset, side in ((0, "left"), (2, "right")):
+    offsets: tuple[tuple[int, Side], ...] = ((0, "left"), (2, "right"))
+    for side_offset, side in offsets:
         legs = formation.legs_on(side)
         for position, leg in enumerate(legs):
             if gait == "alternating":

@@ -75,7 +75,7 @@ def ppo_curve(task: BenchTask, seed: int) -> Curve:
     def spent() -> int:
         if task.sim == "msm":
             return model.num_timesteps
-        return int(envs[0].provider.measured)  # type: ignore[attr-defined]
+        return int(envs[0].provider.measured)
 
     class Score(BaseCallback):
         def _on_rollout_end(self) -> None:

@@ -84,7 +84,7 @@ def run_all(
         bench_jobs,
         processes=jobs,
         label="bench",
-        report=ended,  # type: ignore[arg-type]
+        report=ended,
         progress=None if len(kept) == len(runs) else progress,
     )
     return [f"{job.name}: {error}" for job, error in zip(bench_jobs, errors, strict=True) if error]

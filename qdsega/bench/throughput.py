@@ -47,7 +47,7 @@ def exact_rates(formation_name: str, *, steps: int = 30) -> tuple[float, float]:
     formation = load_formation(resolve_formation(formation_name))
     env = LocomotionEnv(formation=formation)
     stopwatch = PhysicsStopwatch(env.sim.step)
-    env.sim.step = stopwatch  # type: ignore[method-assign]
+    env.sim.step = stopwatch
     try:
         env.reset(seed=0)
         stopwatch.reset()

@@ -13,6 +13,8 @@ from functools import cached_property
 from pathlib import Path
 from typing import Literal
 
+import numpy as np
+
 from qdsega.description.unit_type import JointSpec, UnitType
 
 Side = Literal["left", "right"]
@@ -209,7 +211,7 @@ class Formation:
             for joint in self.joints
         )
 
-    def posture_rad(self, levels: Sequence[int]) -> tuple[float, ...]:
+    def posture_rad(self, levels: Sequence[int] | np.ndarray) -> tuple[float, ...]:
         """Joint angles (rad), shape (J,), of a posture given as level indices, shape (J,)."""
         if len(levels) != len(self.joints):
             raise ValueError(f"{self.name} has {len(self.joints)} joints, got {len(levels)} levels")

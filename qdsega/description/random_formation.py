@@ -105,7 +105,12 @@ def _limb(rng: np.random.Generator, parent: str, side: str) -> list[dict[str, An
     limb = []
     for k, name in enumerate(names):
         attach = (parent, side) if k == 0 else (names[k - 1], "back")
-        unit: dict[str, Any] = {"name": name, "unit": "servo", "parent": attach[0], "connector": attach[1]}
+        unit: dict[str, Any] = {
+            "name": name,
+            "unit": "servo",
+            "parent": attach[0],
+            "connector": attach[1],
+        }
         if rng.random() < 0.2:
             unit["friction"] = {"lateral": float(round(rng.uniform(0.2, 2.0), 2))}
         limb.append(unit | _joint(rng, "servo"))

@@ -63,7 +63,9 @@ class BodyPoseEstimator:
         return self.trunk_pose(positions_m[rows], quaternions[rows])
 
     def trunk_pose(
-        self, positions_m: Sequence[Sequence[float]], quaternions: Sequence[Sequence[float]]
+        self,
+        positions_m: Sequence[Sequence[float]] | np.ndarray,
+        quaternions: Sequence[Sequence[float]] | np.ndarray,
     ) -> BodyPose:
         """Pose from the trunk units' states only, rows in :attr:`trunk_rows` order.
 

@@ -56,11 +56,7 @@ class Optimum:
 @cache
 def _compositions(total: int) -> tuple[tuple[int, int, int, int], ...]:
     """Every way to split ``total`` legs over the 4 target states."""
-    return tuple(
-        c  # type: ignore[misc]
-        for c in itertools.product(range(total + 1), repeat=4)
-        if sum(c) == total
-    )
+    return tuple(c for c in itertools.product(range(total + 1), repeat=4) if sum(c) == total)
 
 
 def _side_moves(counts: Counts, u: float, v: float, min_down: int) -> dict[Counts, tuple]:
@@ -72,7 +68,7 @@ def _side_moves(counts: Counts, u: float, v: float, min_down: int) -> dict[Count
     )
     best: dict[Counts, tuple] = {}
     for k in np.flatnonzero(targets[:, 0] + targets[:, 1] >= min_down):
-        nxt: Counts = tuple(targets[k].tolist())  # type: ignore[assignment]
+        nxt: Counts = tuple(targets[k].tolist())
         force = float(forces[k])
         if nxt not in best or force > best[nxt][0]:  # the first of equal forces stays
             best[nxt] = (force, every[k])
@@ -134,7 +130,7 @@ def msm_optimum(
     sides = []
     for mask in (~right, right):
         counts = tuple(int(np.sum(start_states[mask] == s)) for s in (1, 2, 3, 4))
-        sides.append(_side_optimum(counts, steps, p.u, p.v, p.min_down_per_side))  # type: ignore[arg-type]
+        sides.append(_side_optimum(counts, steps, p.u, p.v, p.min_down_per_side))
     bound = p.c_u * (sides[0][0] + sides[1][0])
 
     # The witness: the left side's count sequence on both sides when they match, else each

@@ -112,7 +112,7 @@ class Material:
     def start(self) -> Arrangement:
         """The body as it is, the spares set aside."""
         places = tuple(
-            (u.name, None if u.parent is None else Place(u.parent, u.connector))  # type: ignore[arg-type]
+            (u.name, None if u.parent is None else Place(u.parent, u.connector))
             for u in self.units.values()
             if u.name != self.root
         )
@@ -246,12 +246,7 @@ class Arrangement:
         units = self.material.units
         legs = self.legs()
         in_legs = {n for leg in legs for n in leg.units}
-        flipped = {
-            n
-            for leg in legs
-            for n in leg.units
-            if leg.side != self.material.leg_of[n].side  # type: ignore[union-attr]
-        }
+        flipped = {n for leg in legs for n in leg.units if leg.side != self.material.leg_of[n].side}
         placed = []
         for unit_name in self.attached:
             unit = units[unit_name]

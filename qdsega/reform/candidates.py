@@ -205,7 +205,7 @@ def _pairs(start: Arrangement, *, spread: bool) -> Arrangement | None:
     for top in tops:  # a leg already in a slot of the shape keeps it
         if start.place(top) in free:
             placed[top] = start.place(top)
-            free.remove(start.place(top))  # type: ignore[arg-type]
+            free.remove(start.place(top))
     for top in tops:
         if top not in placed:
             placed[top] = free.pop(0)

@@ -67,7 +67,7 @@ def first_body(bag: dict[str, int], *, name: str = "design") -> Formation:
             swing = _placed(f"{leg}_swing", swing_type, parent, connector, swing_deg, "yaw")
             lift = _placed(f"{leg}_lift", lift_type, swing, None, LIFT_DEG, "pitch")
             units += [swing, lift]
-            legs.append(Leg(leg, side, swing.joint_name, lift.joint_name, (swing.name, lift.name)))  # type: ignore[arg-type]
+            legs.append(Leg(leg, side, swing.joint_name, lift.joint_name, (swing.name, lift.name)))
     tail = units[len(trunk) - 1]
     for k, (unit_type, axis) in enumerate(zip(active, itertools.cycle(("yaw", "pitch"))), start=1):
         tail = _placed(f"tail{k}", unit_type, tail, None, CHAIN_DEG, axis)

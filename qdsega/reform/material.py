@@ -72,7 +72,7 @@ def material_of(formation: Formation, spares: dict[str, int]) -> Material:
         swing = next(u for u in model.units if units[u].joint_name == model.swing_joint)
         lift = next(u for u in model.units if units[u].joint_name == model.lift_joint)
         leg_units = tuple(copies[u] for u in model.units)
-        legs.append(Leg(name, model.side, joint_of[swing], joint_of[lift], leg_units))  # type: ignore[arg-type]
+        legs.append(Leg(name, model.side, joint_of[swing], joint_of[lift], leg_units))
         number += 1
     for unit in loose:
         name = _free_name(f"spare_{unit.unit_type.name}", units)

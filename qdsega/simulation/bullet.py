@@ -357,7 +357,7 @@ class BulletSimulation:
                     _EGL_PARKED.clear()
             else:
                 _disconnect(self.client)
-            self.client = None  # type: ignore[assignment]
+            self.client = None
 
     def __enter__(self) -> BulletSimulation:
         return self
