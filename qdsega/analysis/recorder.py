@@ -44,14 +44,20 @@ def record(env: LocomotionEnv, postures: np.ndarray) -> Film:
     fps = env.camera.fps
     every = max(1, round(1.0 / (fps * env.sim.settings.time_step_s)))
     env.reset(seed=0)
-    frames = [env.render()]
+
+    def picture() -> np.ndarray:
+        image = env.render()
+        assert image is not None  # render_mode is "rgb_array"
+        return image
+
+    frames = [picture()]
     physics_steps = 0
 
     def film() -> None:
         nonlocal physics_steps
         physics_steps += 1
         if physics_steps % every == 0:
-            frames.append(env.render())
+            frames.append(picture())
 
     failure = None
     env.on_physics_step = film

@@ -171,9 +171,9 @@ class MeasuredTransitions:
     def _fill(self, sources: np.ndarray, targets: np.ndarray) -> None:
         jobs: list[tuple[np.ndarray, np.ndarray]] = []
         for source in np.unique(sources, axis=0):
-            missing = [t for t in np.unique(targets, axis=0) if _key(source, t) not in self._table]
-            if missing:
-                jobs.append((source, np.array(missing)))
+            pending = [t for t in np.unique(targets, axis=0) if _key(source, t) not in self._table]
+            if pending:
+                jobs.append((source, np.array(pending)))
         if not jobs:
             return
         args = (self.formation, self.lower_agent, self.physics, self.world, self.spots)

@@ -56,7 +56,11 @@ class Optimum:
 @cache
 def _compositions(total: int) -> tuple[tuple[int, int, int, int], ...]:
     """Every way to split ``total`` legs over the 4 target states."""
-    return tuple(c for c in itertools.product(range(total + 1), repeat=4) if sum(c) == total)
+    return tuple(
+        (a, b, c, d)
+        for a, b, c, d in itertools.product(range(total + 1), repeat=4)
+        if a + b + c + d == total
+    )
 
 
 def _side_moves(counts: Counts, u: float, v: float, min_down: int) -> dict[Counts, tuple]:
@@ -129,7 +133,8 @@ def msm_optimum(
     start_states = model.legs.states(model.start_posture())
     sides = []
     for mask in (~right, right):
-        counts = tuple(int(np.sum(start_states[mask] == s)) for s in (1, 2, 3, 4))
+        one, two, three, four = (int(np.sum(start_states[mask] == s)) for s in (1, 2, 3, 4))
+        counts = (one, two, three, four)
         sides.append(_side_optimum(counts, steps, p.u, p.v, p.min_down_per_side))
     bound = p.c_u * (sides[0][0] + sides[1][0])
 

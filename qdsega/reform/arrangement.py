@@ -112,7 +112,11 @@ class Material:
     def start(self) -> Arrangement:
         """The body as it is, the spares set aside."""
         places = tuple(
-            (u.name, None if u.parent is None else Place(u.parent, u.connector))
+            # a unit's parent and connector are both set, or both None
+            (
+                u.name,
+                None if u.parent is None or u.connector is None else Place(u.parent, u.connector),
+            )
             for u in self.units.values()
             if u.name != self.root
         )

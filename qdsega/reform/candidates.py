@@ -203,9 +203,10 @@ def _pairs(start: Arrangement, *, spread: bool) -> Arrangement | None:
     free = list(targets)
     placed: dict[str, Place | None] = {}
     for top in tops:  # a leg already in a slot of the shape keeps it
-        if start.place(top) in free:
-            placed[top] = start.place(top)
-            free.remove(start.place(top))
+        place = start.place(top)
+        if place is not None and place in free:
+            placed[top] = place
+            free.remove(place)
     for top in tops:
         if top not in placed:
             placed[top] = free.pop(0)

@@ -67,6 +67,7 @@ def first_body(bag: dict[str, int], *, name: str = "design") -> Formation:
             swing = _placed(f"{leg}_swing", swing_type, parent, connector, swing_deg, "yaw")
             lift = _placed(f"{leg}_lift", lift_type, swing, None, LIFT_DEG, "pitch")
             units += [swing, lift]
+            assert swing.joint_name is not None and lift.joint_name is not None  # both have parents
             legs.append(Leg(leg, side, swing.joint_name, lift.joint_name, (swing.name, lift.name)))
     tail = units[len(trunk) - 1]
     for k, (unit_type, axis) in enumerate(zip(active, itertools.cycle(("yaw", "pitch"))), start=1):

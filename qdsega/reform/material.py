@@ -72,7 +72,9 @@ def material_of(formation: Formation, spares: dict[str, int]) -> Material:
         swing = next(u for u in model.units if units[u].joint_name == model.swing_joint)
         lift = next(u for u in model.units if units[u].joint_name == model.lift_joint)
         leg_units = tuple(copies[u] for u in model.units)
-        legs.append(Leg(name, model.side, joint_of[swing], joint_of[lift], leg_units))
+        swing_joint, lift_joint = joint_of[swing], joint_of[lift]
+        assert swing_joint is not None and lift_joint is not None  # a leg's units have parents
+        legs.append(Leg(name, model.side, swing_joint, lift_joint, leg_units))
         number += 1
     for unit in loose:
         name = _free_name(f"spare_{unit.unit_type.name}", units)
