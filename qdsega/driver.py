@@ -20,7 +20,7 @@ import threading
 import time
 from collections.abc import Callable, Iterator, Sequence
 from concurrent.futures import ProcessPoolExecutor, as_completed
-from typing import Protocol
+from typing import Protocol, TypeVar
 
 from qdsega.errors import QdsegaError
 from qdsega.progress import ProgressFactory
@@ -37,7 +37,8 @@ took 96 ms instead of 1 ms each, threads waiting on each other)."""
 class Job(Protocol):
     """One run of many."""
 
-    name: str
+    @property
+    def name(self) -> str: ...
 
     def __call__(self) -> str | None:
         """Do the work (in the job's own process): None, or what went wrong in one line."""
@@ -46,6 +47,9 @@ class Job(Protocol):
     def kept(self) -> bool:
         """Whether it was finished before (the driver counts it done at once)."""
         ...
+
+
+_JobT = TypeVar("_JobT", bound=Job)
 
 
 def error_line(exc: Exception) -> str:
@@ -59,12 +63,12 @@ class Stopped(KeyboardInterrupt):
 
 
 def run_jobs(
-    jobs: Sequence[Job],
+    jobs: Sequence[_JobT],
     *,
     processes: int = 1,
     ray: str | None = None,
     label: str = "runs",
-    report: Callable[[Job, str | None], None] = lambda job, error: None,
+    report: Callable[[_JobT, str | None], None] = lambda job, error: None,
     progress: ProgressFactory | None = None,
 ) -> list[str | None]:
     """Run every job, ``processes`` at a time, or as Ray tasks when ``ray`` is ``local`` or an

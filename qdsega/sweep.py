@@ -250,10 +250,10 @@ def _train_and_evaluate(run: SweepRun, folder: Path) -> str | None:
         train_or_resume(run.formation, config, folder, world=world)
         if RunFolder(folder).read_evaluation() is None:
             step = "evaluate"
-            budget = (
-                {} if run.reference_trials is None else {"reference_trials": run.reference_trials}
-            )
-            evaluate_run(folder, **budget)
+            if run.reference_trials is None:
+                evaluate_run(folder)
+            else:
+                evaluate_run(folder, reference_trials=run.reference_trials)
     except TrainingInterrupted:
         raise
     except Exception as exc:  # a failed run is a row of the table; the others go on

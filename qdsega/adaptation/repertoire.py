@@ -290,6 +290,8 @@ def _resume(
         return empty_archive(formation, settings, longest=longest), search, 0, 0.0
     archive, saved = load_repertoire(out)
     keys = ("formation", "joints", "levels", "world", "descriptor", "settings", "seeds")
+    mine: dict[str, Any]
+    theirs: dict[str, Any]
     mine, theirs = ({k: dict(r.get(k) or {}) if k == "settings" else r.get(k) for k in keys}
                     for r in (record, saved))  # fmt: skip
     if settings.fill == "exact":  # an exact build may go on to a larger budget
@@ -317,4 +319,6 @@ def _save(out: Path, archive: Archive, emitter: MapElites, record: dict) -> None
     with replaced_atomically(folder.record) as partial:
         partial.write_text(json.dumps(record, indent=2) + "\n", encoding="utf-8")
     with replaced_atomically(folder.archive) as partial:
-        np.savez_compressed(partial, search_state=np.array(state), told=told, **archive.state())
+        arrays = {"search_state": np.array(state), "told": told, **archive.state()}
+        # numpy's stubs match **arrays against savez_compressed's allow_pickle: bool
+        np.savez_compressed(partial, **arrays)  # type: ignore[arg-type]

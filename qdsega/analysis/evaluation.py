@@ -92,8 +92,16 @@ def evaluate_run(
         learned = replay_policy(env, policy)
         candidates = [classic_reference(env, formation)]
         if reference_trials > 0:
-            search = {"trials": reference_trials, "workers": config.workers, "progress": progress}
-            candidates.append(searched_reference(env, formation, rules, **search))
+            candidates.append(
+                searched_reference(
+                    env,
+                    formation,
+                    rules,
+                    trials=reference_trials,
+                    workers=config.workers,
+                    progress=progress,
+                )
+            )
     finally:
         env.close()
     reference = max(candidates, key=lambda c: c["distance_m"])

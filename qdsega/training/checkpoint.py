@@ -94,7 +94,8 @@ def save_checkpoint(run: Path, checkpoint: Checkpoint) -> None:
         "result": checkpoint.result,
     }
     with replaced_atomically(run / RunFolder.CHECKPOINT) as partial:
-        np.savez(partial, meta=np.array(json.dumps(meta)), **arrays)
+        # numpy's stubs match **arrays against savez's allow_pickle: bool
+        np.savez(partial, meta=np.array(json.dumps(meta)), **arrays)  # type: ignore[arg-type]
 
 
 def _elite(data: np.lib.npyio.NpzFile, meta: dict) -> tuple[np.ndarray, float | None]:

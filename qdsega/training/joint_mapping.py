@@ -108,21 +108,19 @@ class JointMapping:
         """Write the mapping and the learner state it maps (a warm start's inputs) to
         ``file`` (npz), atomically. A source without a learnt generation (a gait found by
         ``qdsega adapt``) keeps its population and elite path alone."""
-        names = {k: np.array(getattr(self, k), dtype=str) for k in _CLASSES}
-        learnt = {}
+        arrays = {
+            "column": self.column,
+            "levels": self.levels,
+            "population": source.population,
+            "elite_path": elite_path(source),
+        }
         if source.previous is not None:
             space, q = source.previous
-            learnt = {**space.arrays(), "q": q}
+            arrays |= {**space.arrays(), "q": q}
+        arrays |= {k: np.array(getattr(self, k), dtype=str) for k in _CLASSES}
         with replaced_atomically(file) as partial:
-            np.savez_compressed(
-                partial,
-                column=self.column,
-                levels=self.levels,
-                population=source.population,
-                elite_path=elite_path(source),
-                **learnt,
-                **names,
-            )
+            # numpy's stubs match **arrays against savez_compressed's allow_pickle: bool
+            np.savez_compressed(partial, **arrays)  # type: ignore[arg-type]
 
     @classmethod
     def load(cls, file: Path) -> tuple[JointMapping, LearnerState]:

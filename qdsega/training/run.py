@@ -306,7 +306,7 @@ def train_or_resume(
         RunFolderError, FormationError, ConfigError: as :func:`train` and :func:`resume`.
         TrainingInterrupted: Ctrl-C; ``out`` holds the last finished generation.
     """
-    folder = RunFolder(out)
+    folder = RunFolder(Path(out))
     if folder.finished:
         folder.require_finished()
         return folder.read_summary()
@@ -331,7 +331,7 @@ def train_until(
         RunFolderError, FormationError, ConfigError: as :func:`train` and :func:`resume`.
         TrainingInterrupted: Ctrl-C; ``out`` holds the last finished generation.
     """
-    folder = RunFolder(out)
+    folder = RunFolder(Path(out))
     if not folder.started:
         _start(formation_file, config, out, world=world, until=generations)
     elif not folder.finished and completed_generations(folder.path) < generations:

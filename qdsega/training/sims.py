@@ -227,10 +227,10 @@ def build_sim(
     task = Task(config=config.task, light_xy=formation.light.position_m)
     rules = config.rules(world)
     if config.sim == "msm":
-        layout = LegLayout.from_formation(formation)  # refuses a legless formation
-        model = MinimalSimulationModel(legs=layout, params=config.msm)
+        legs = LegLayout.from_formation(formation)  # refuses a legless formation
+        model = MinimalSimulationModel(legs=legs, params=config.msm)
         optimum = msm_optimum(model, steps=task.trial_steps, light_xy=tuple(task.light))
-        return TrainingSim(model, None, None, task, optimum, layout, world=rules.world)
+        return TrainingSim(model, None, None, task, optimum, legs, world=rules.world)
     layout = LegLayout.from_formation(formation, both_sides=False) if formation.legs else None
     from qdsega.locomotion.env import rules_env  # starts PyBullet: only when needed
     from qdsega.locomotion.env_world import EnvWorld
