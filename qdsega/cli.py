@@ -6,8 +6,8 @@ from __future__ import annotations
 import argparse
 import sys
 import warnings
-from collections.abc import Callable, Sequence
-from typing import TextIO
+from collections.abc import Sequence
+from typing import Protocol, TextIO
 
 from qdsega import __version__
 from qdsega.commands import (
@@ -35,7 +35,21 @@ a first run (a shipped formation by name, or your own YAML file):
 
 every command's options: qdsega COMMAND --help; the guides: docs/ in the source."""
 
-ShowWarning = Callable[[Warning | str, type[Warning], str, int, TextIO | None, str | None], None]
+
+class ShowWarning(Protocol):
+    """The signature of ``warnings.showwarning``."""
+
+    def __call__(
+        self,
+        message: Warning | str,
+        category: type[Warning],
+        filename: str,
+        lineno: int,
+        file: TextIO | None = None,
+        line: str | None = None,
+    ) -> None: ...
+
+
 """The signature of ``warnings.showwarning``."""
 
 COMMANDS = (

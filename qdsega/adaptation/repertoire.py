@@ -257,7 +257,7 @@ def _record(
     settings: RepertoireSettings,
     seeds: Sequence[np.ndarray],
     seeded_from: Path | None,
-) -> dict:
+) -> dict[str, Any]:
     descriptor = GaitDescriptor.of(formation)
     kind = MSM_DESCRIPTOR if settings.fill == "msm" else descriptor.kind
     digest = hashlib.sha256()
@@ -281,7 +281,11 @@ def _record(
 
 
 def _resume(
-    out: Path, formation: Formation, settings: RepertoireSettings, record: dict, longest: int
+    out: Path,
+    formation: Formation,
+    settings: RepertoireSettings,
+    record: dict[str, Any],
+    longest: int,
 ) -> tuple[Archive, np.random.Generator, int, float]:
     """The archive, the search's generator, the gaits played and the wall time so far: from
     ``out`` where it holds a repertoire, else fresh."""
@@ -309,7 +313,7 @@ def _resume(
     return archive, search, told, float(saved.get("wall_s", 0.0))
 
 
-def _save(out: Path, archive: Archive, emitter: MapElites, record: dict) -> None:
+def _save(out: Path, archive: Archive, emitter: MapElites, record: dict[str, Any]) -> None:
     """The record, then the archive with the search's state and count. In this order a build
     killed between the two still resumes: it goes on from the archive, whose batch the
     record is at most one ahead of (the record is read only for its wall time)."""

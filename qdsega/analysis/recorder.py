@@ -44,20 +44,14 @@ def record(env: LocomotionEnv, postures: np.ndarray) -> Film:
     fps = env.camera.fps
     every = max(1, round(1.0 / (fps * env.sim.settings.time_step_s)))
     env.reset(seed=0)
-
-    def picture() -> np.ndarray:
-        image = env.render()
-        assert image is not None  # render_mode is "rgb_array"
-        return image
-
-    frames = [picture()]
+    frames = [picture(env)]
     physics_steps = 0
 
     def film() -> None:
         nonlocal physics_steps
         physics_steps += 1
         if physics_steps % every == 0:
-            frames.append(picture())
+            frames.append(picture(env))
 
     failure = None
     env.on_physics_step = film
@@ -70,3 +64,11 @@ def record(env: LocomotionEnv, postures: np.ndarray) -> Film:
     finally:
         env.on_physics_step = None
     return Film(frames=frames, fps=fps, failure=failure)
+
+
+def picture(env: LocomotionEnv) -> np.ndarray:
+    """The camera's picture now, (height, width, 3) uint8, of an env made to render
+    (``render_mode`` ``"rgb_array"``)."""
+    image = env.render()
+    assert image is not None  # only an env without a render mode pictures nothing
+    return image

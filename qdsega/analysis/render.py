@@ -11,7 +11,7 @@ import numpy as np
 
 from qdsega.adaptation.folders import AdaptationFolder
 from qdsega.analysis.evaluation import replay_policy, replayable_run
-from qdsega.analysis.recorder import Film, record
+from qdsega.analysis.recorder import Film, picture, record
 from qdsega.analysis.video import VIDEO_SUFFIXES, write_video
 from qdsega.description import Formation, World
 from qdsega.errors import ConfigError, FormationError
@@ -62,7 +62,7 @@ def final_still(run: Path, camera: CameraConfig) -> np.ndarray:
     gait took the body. The trial is played unfilmed and pictured once."""
     with _run_env(run, camera) as (env, postures):
         replay_postures(env, postures)
-        return env.render()
+        return picture(env)
 
 
 def rest_still(

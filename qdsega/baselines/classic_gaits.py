@@ -17,6 +17,7 @@ from __future__ import annotations
 import itertools
 import math
 from collections.abc import Iterator
+from typing import Any
 
 import numpy as np
 
@@ -49,7 +50,9 @@ def serpenoid(
     return np.array(rows, dtype=np.int64)
 
 
-def serpenoid_grid(formation: Formation, *, steps: int) -> Iterator[tuple[dict, np.ndarray]]:
+def serpenoid_grid(
+    formation: Formation, *, steps: int
+) -> Iterator[tuple[dict[str, Any], np.ndarray]]:
     """Serpenoid candidates over amplitude, phase lag and steps per cycle, with parameters."""
     widest = max(max(abs(a) for a in j.levels_rad) for j in formation.joints)
     amplitudes = [widest * f for f in (0.5, 0.75, 1.0)]

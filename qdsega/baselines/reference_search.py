@@ -206,7 +206,7 @@ _NOT_PHYSICS = ("name", "description", "file", "light")
 formation's, already in the key)."""
 
 
-def _rules(rules: ExactRules) -> dict:
+def _rules(rules: ExactRules) -> dict[str, Any]:
     """The settings a posture sequence's distance depends on, as plain types (of the task, the
     trial length alone: an open-loop gait earns no reward and sees no exterior state)."""
     inputs = {

@@ -15,7 +15,8 @@ Needs the ``bench`` extra: ``pip install 'qdsega[bench]'``.
 from __future__ import annotations
 
 import time
-from typing import Any
+from collections.abc import Callable
+from typing import TYPE_CHECKING, Any, cast
 
 import gymnasium as gym
 import numpy as np
@@ -24,6 +25,9 @@ from qdsega.bench.curve import Curve
 from qdsega.bench.tasks import LEARNING_SIM, BenchTask
 from qdsega.locomotion.table_env import TableLocomotionEnv
 from qdsega.training.sims import memo_spots
+
+if TYPE_CHECKING:  # the memo table starts PyBullet
+    from qdsega.locomotion.memo import MeasuredTransitions
 
 ENVS = {"msm": 16, "pybullet": 1}
 """Environments PPO steps side by side per simulator: in the MSM 16, so that each policy call
@@ -36,6 +40,11 @@ are fewer has one rollout of that many steps."""
 BATCH = 256
 """PPO's minibatch (-): 4x stable-baselines3's default of 64, for 4x fewer gradient steps
 (at most one rollout)."""
+
+
+def _factory(env: gym.Env) -> Callable[[], gym.Env]:
+    """A maker of ``env`` itself (DummyVecEnv takes makers)."""
+    return lambda: env
 
 
 def ppo_curve(task: BenchTask, seed: int) -> Curve:
@@ -67,7 +76,7 @@ def ppo_curve(task: BenchTask, seed: int) -> Curve:
         )
         for _ in range(ENVS[task.sim])
     ]
-    vector = DummyVecEnv([lambda env=env: env for env in envs])
+    vector = DummyVecEnv([_factory(env) for env in envs])
     judge = _exact_env(task)
     start = time.perf_counter()
     points: list[tuple[int, float, float]] = []
@@ -75,7 +84,8 @@ def ppo_curve(task: BenchTask, seed: int) -> Curve:
     def spent() -> int:
         if task.sim == "msm":
             return model.num_timesteps
-        return int(envs[0].provider.measured)
+        # every sim but the MSM learns in a memo table, whose measured pairs are the budget
+        return int(cast("MeasuredTransitions", envs[0].provider).measured)
 
     class Score(BaseCallback):
         def _on_rollout_end(self) -> None:

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import argparse
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 from qdsega.errors import ConfigError
 
@@ -89,8 +89,8 @@ def run(args: argparse.Namespace) -> int:
     print(f"qdsega match: {len(runs)} runs -> {out}", flush=True)
     rows = run_sweep(runs, out, jobs=args.jobs, ray=args.ray, progress=ProgressLine)
     cells = matrix(rows)
-    formations = list(dict.fromkeys(row["formation"] for row in rows))
-    worlds = list(dict.fromkeys(row["world"] for row in rows))
+    formation_names = list(dict.fromkeys(row["formation"] for row in rows))
+    world_names = list(dict.fromkeys(row["world"] for row in rows))
     camera = CameraConfig(width=320, height=240)
     shot = [(key, cell.run) for key, cell in cells.items() if cell.run]
     line = ProgressLine("stills", len(shot), delay_s=5.0)  # each replays its cell's trial
@@ -99,14 +99,14 @@ def run(args: argparse.Namespace) -> int:
         stills[key] = final_still(out / run, camera)
         line.update(done, f"{key[0]} in {key[1]}")
     line.close()
-    files = write_matrix(cells, formations, worlds, out, stills)
+    files = write_matrix(cells, formation_names, world_names, out, stills)
     for world, body in best_bodies(cells).items():
         print(f"{world}: {body or 'no body moved'}")
     print(" ".join(str(f) for f in files))
     return 0
 
 
-def _merged(base: dict, more: dict) -> dict:
+def _merged(base: dict[str, Any], more: dict[str, Any]) -> dict[str, Any]:
     """``more`` over ``base``, nested mappings merged key by key."""
     merged = dict(base)
     for key, value in more.items():

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import argparse
 from pathlib import Path
+from typing import Any
 
 NAME = "reform"
 HELP = (
@@ -89,7 +90,7 @@ def search(
     *,
     spares: dict[str, int] | None = None,
     repertoire: Path | None = None,
-) -> dict:
+) -> dict[str, Any]:
     """Run the search the options ``args`` describe (:func:`qdsega.reform.search.reform`)."""
     # Imported here: the search starts PyBullet, which the other commands need not load.
     from qdsega.description import resolve_world
@@ -112,7 +113,7 @@ def search(
     )
 
 
-def print_verdict(record: dict, verdict: str, out: Path) -> None:
+def print_verdict(record: dict[str, Any], verdict: str, out: Path) -> None:
     """The one line a search prints at its end."""
     from qdsega.reform.folder import ReformFolder
 

@@ -46,7 +46,7 @@ def formation_yaml(formation: Formation, file: Path, *, comment: str = "") -> st
     legs = formation.legs + formation.broken_legs
     leg_of = {name: leg for leg in legs for name in leg.units}
     templates: dict[str, dict[str, Any]] = {}
-    shape_of: dict[tuple, str] = {}
+    shape_of: dict[tuple[Any, ...], str] = {}
     units: list[dict[str, Any]] = []
     for unit in formation.units:
         leg = leg_of.get(unit.name)
@@ -95,7 +95,7 @@ def _instance(
     leg: Leg,
     default: Friction,
     templates: dict[str, dict[str, Any]],
-    shape_of: dict[tuple, str],
+    shape_of: dict[tuple[Any, ...], str],
 ) -> dict[str, Any]:
     """A leg's instance entry; its template is added to ``templates`` where no earlier leg
     has the same shape (units, their frames and axes, swing and lift)."""

@@ -63,14 +63,16 @@ def _compositions(total: int) -> tuple[tuple[int, int, int, int], ...]:
     )
 
 
-def _side_moves(counts: Counts, u: float, v: float, min_down: int) -> dict[Counts, tuple]:
+def _side_moves(
+    counts: Counts, u: float, v: float, min_down: int
+) -> dict[Counts, tuple[float, np.ndarray]]:
     """Best step to each next-counts from ``counts``: next -> (force, 4x4 transition counts)."""
     every = np.array(list(itertools.product(*(_compositions(c) for c in counts))))  # (k, 4, 4)
     targets = every.sum(axis=1)  # next counts of each, (k, 4)
     forces = side_force(
         u * (every[:, 0, 1] - every[:, 1, 0]), v * (every[:, 0, 0] + every[:, 1, 1])
     )
-    best: dict[Counts, tuple] = {}
+    best: dict[Counts, tuple[float, np.ndarray]] = {}
     for k in np.flatnonzero(targets[:, 0] + targets[:, 1] >= min_down):
         nxt: Counts = tuple(targets[k].tolist())
         force = float(forces[k])

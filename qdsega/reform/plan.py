@@ -13,6 +13,7 @@ from __future__ import annotations
 import itertools
 import math
 from collections.abc import Iterator
+from typing import Any
 
 from qdsega.reform.arrangement import Arrangement, Move, Place
 
@@ -59,7 +60,7 @@ def _trades(start: Arrangement, target: Arrangement) -> Iterator[Arrangement]:
         yield _trade_legs(start, _renamed(target, names))
 
 
-def _kind(arrangement: Arrangement, name: str) -> tuple:
+def _kind(arrangement: Arrangement, name: str) -> tuple[Any, ...]:
     unit = arrangement.material.units[name]
     return (unit.unit_type.name, unit.axis, unit.locked_rad, unit.friction)
 
@@ -67,14 +68,14 @@ def _kind(arrangement: Arrangement, name: str) -> tuple:
 def _trunk_groups(start: Arrangement) -> list[list[str]]:
     """Trunk units (the root left out) grouped by kind."""
     material = start.material
-    groups: dict[tuple, list[str]] = {}
+    groups: dict[tuple[Any, ...], list[str]] = {}
     for name in material.units:
         if name != material.root and material.is_trunk(name):
             groups.setdefault(_kind(start, name), []).append(name)
     return [g for g in groups.values() if len(g) > 1]
 
 
-def _leg_shape(start: Arrangement, top: str) -> tuple:
+def _leg_shape(start: Arrangement, top: str) -> tuple[Any, ...]:
     """What makes two legs alike: their units' kinds and how they hang together."""
     leg = start.material.leg_tops[top]
     units = start.material.units
@@ -90,7 +91,7 @@ def _trade_legs(start: Arrangement, target: Arrangement) -> Arrangement:
     its shape stays there."""
     material = start.material
     names: dict[str, str] = {}
-    by_shape: dict[tuple, list[str]] = {}
+    by_shape: dict[tuple[Any, ...], list[str]] = {}
     for top in material.leg_tops:
         by_shape.setdefault(_leg_shape(start, top), []).append(top)
     for tops in by_shape.values():

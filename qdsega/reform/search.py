@@ -145,7 +145,7 @@ def reform(
         _check_repertoire(repertoire, formation, world)
     if config is not None:
         resolve_config(file=config, overrides={"sim": "memo"}, formation=formation)
-    inputs = {
+    inputs: dict[str, Any] = {
         "formation": formation.name,
         "formation_file": str(Path(formation_file).resolve()),
         "formation_yaml": Path(formation_file).read_text(encoding="utf-8"),
@@ -367,7 +367,7 @@ class Search:
                 "how": how,
                 "distance_m": learnt[best]["distance_m"] if reformed else baseline,
                 "run": None if adapted_wins else learnt.get(winner, {}).get("run"),
-                "adaptation": adapted["folder"] if adapted_wins else None,
+                "adaptation": adapted["folder"] if adapted_wins and adapted is not None else None,
                 "moves": [_move(m) for m in self.candidates.by_name(winner).moves],
             },
             "wall_s": wall_s,

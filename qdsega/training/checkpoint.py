@@ -15,6 +15,7 @@ import json
 import zipfile
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -98,7 +99,7 @@ def save_checkpoint(run: Path, checkpoint: Checkpoint) -> None:
         np.savez(partial, meta=np.array(json.dumps(meta)), **arrays)  # type: ignore[arg-type]
 
 
-def _elite(data: np.lib.npyio.NpzFile, meta: dict) -> tuple[np.ndarray, float | None]:
+def _elite(data: np.lib.npyio.NpzFile, meta: dict[str, Any]) -> tuple[np.ndarray, float | None]:
     """The elite of a checkpoint; none in one written before elitism existed."""
     if "elite" not in data:
         return np.zeros((0, data["population"].shape[1]), dtype=np.int64), None
@@ -107,7 +108,7 @@ def _elite(data: np.lib.npyio.NpzFile, meta: dict) -> tuple[np.ndarray, float | 
 
 def _result(
     data: np.lib.npyio.NpzFile,
-    meta: dict,
+    meta: dict[str, Any],
     metrics: np.ndarray,
     previous: tuple[ExplorationSpace, np.ndarray] | None,
 ) -> tuple[int, GreedyPolicy | None]:

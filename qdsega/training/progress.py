@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import shutil
 import sys
-from typing import TextIO
+from typing import Any, TextIO
 
 from tqdm import tqdm
 
@@ -25,7 +25,7 @@ class ProgressDisplay:
     def __init__(self, stream: TextIO | None = None) -> None:
         self.stream = sys.stderr if stream is None else stream
         self.interactive = self.stream.isatty()
-        self._bar: tqdm | None = None
+        self._bar: tqdm[Any] | None = None
 
     def start(self, *, completed: int, generations: int) -> None:
         if self.interactive:
