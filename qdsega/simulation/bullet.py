@@ -68,7 +68,7 @@ class BulletSimulation:
             _EGL_OPEN.add(self)
         self._configure_engine()
         self.world = world or World()
-        self.terrain = build_terrain(self.client, pybullet, self.world, PLANE_URDF)
+        self.terrain = build_terrain(self.client, pybullet, self.world, PLANE_URDF, pictures=egl)
         flags = pybullet.URDF_USE_INERTIA_FROM_FILE
         if self.settings.self_collision:
             flags |= pybullet.URDF_USE_SELF_COLLISION | (
