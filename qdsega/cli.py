@@ -16,6 +16,7 @@ from qdsega.commands import (
     bench,
     design,
     evaluate,
+    gallery,
     match,
     plot,
     reform,
@@ -40,7 +41,7 @@ ShowWarning = Callable[[Warning | str, type[Warning], str, int, TextIO | None, s
 
 COMMANDS = (
     assemble, train, evaluate, plot, render, report, sweep, match, bench, repertoire, adapt,
-    reform, design,
+    reform, design, gallery,
 )  # fmt: skip
 """Each module provides ``NAME``, ``HELP``, ``add_arguments(parser)`` and ``run(args) -> int``."""
 

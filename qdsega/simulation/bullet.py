@@ -309,6 +309,12 @@ class BulletSimulation:
             basePosition=(xy_m[0], xy_m[1], base + radius_m),
         )
 
+    def tint(self, units: Sequence[str], rgba: Sequence[float]) -> None:
+        """Colour the named units (red, green, blue, alpha in 0..1), for a picture that points
+        them out; the physics is untouched."""
+        for unit in units:
+            self.client.changeVisualShape(self.body_id, self.link_index[unit], rgbaColor=rgba)
+
     def camera_image(
         self,
         *,

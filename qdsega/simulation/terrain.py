@@ -21,6 +21,8 @@ from qdsega.description.world import CELL_M, Box, Rough, World
 
 GROUND_RGBA = (0.55, 0.5, 0.45, 1.0)
 OBSTACLE_RGBA = (0.6, 0.6, 0.62, 1.0)
+STEP_RGBA = (GROUND_RGBA, (0.7, 0.64, 0.56, 1.0))
+"""Steps alternate these colours, so that each step shows in a picture."""
 ROUGH_START_M = 1.0
 """Rough ground starts this far behind the start, so that a body begins on it."""
 RELIEF_LOW_RGB = (0.42, 0.35, 0.27)
@@ -69,7 +71,8 @@ def build_terrain(
             height = stairs.rise_m * (k + 1)
             centre = (stairs.from_m + (k + 0.5) * stairs.run_m, 0.0, height / 2)
             size = (stairs.run_m, stairs.width_m, height)
-            terrain.ground.append(_box(client, pybullet, centre, size, 0.0, GROUND_RGBA))
+            colour = STEP_RGBA[k % len(STEP_RGBA)]
+            terrain.ground.append(_box(client, pybullet, centre, size, 0.0, colour))
     for box in world.boxes:
         terrain.obstacles.append(_placed(client, pybullet, box, world))
     if world.corridor is not None:
