@@ -45,7 +45,8 @@ class BulletSimulation:
         robot: the assembled formation.
         settings: engine parameters.
         egl: load pybullet's EGL plugin for off-screen OpenGL camera images (it must be loaded
-            before any body); see :attr:`egl_enabled` for whether it loaded.
+            before any body); see :attr:`egl_enabled` for whether it loaded. Either way the
+            world is then built for pictures (rough ground shows its relief).
         world: the ground and what stands on it (:mod:`qdsega.simulation.terrain`); None for
             the flat plane.
     """
