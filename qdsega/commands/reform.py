@@ -6,6 +6,8 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
+from qdsega.folder_names import default_folder
+
 NAME = "reform"
 HELP = (
     "find the formation a body's units should take in a world: candidate bodies made of its "
@@ -63,7 +65,7 @@ def run(args: argparse.Namespace) -> int:
 
     formation = resolve_formation(args.formation)
     spares = parse_units(args.spare)
-    out = args.out or Path("runs") / f"reform-{formation.stem}{world_suffix(args.world)}"
+    out = args.out or default_folder(formation.stem, command="reform", world=world_file(args.world))
     record = search(args, formation, out, spares=spares, repertoire=args.repertoire)
     winner = record["winner"]
     verdict = (
@@ -75,11 +77,11 @@ def run(args: argparse.Namespace) -> int:
     return 0
 
 
-def world_suffix(world: str | None) -> str:
-    """``-WORLD`` for a default output folder's name ("" for the flat plane)."""
+def world_file(world: str | None) -> Path | None:
+    """The file a ``--world`` argument names (None for the flat plane)."""
     from qdsega.description import resolve_world
 
-    return "" if world is None else f"-{resolve_world(world).stem}"
+    return None if world is None else resolve_world(world)
 
 
 def search(

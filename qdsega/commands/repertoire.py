@@ -7,6 +7,7 @@ from pathlib import Path
 
 from qdsega.adaptation.fills import FILLS, default_fill
 from qdsega.errors import ConfigError
+from qdsega.folder_names import default_folder
 
 NAME = "repertoire"
 HELP = (
@@ -39,7 +40,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--cells", type=int, metavar="C", help=f"archive cells ({cells})")
     parser.add_argument("--seed", type=int, default=0, metavar="S")
     parser.add_argument("--workers", type=int, default=2, metavar="N", help="processes")
-    parser.add_argument("--out", type=Path, metavar="DIR", help="default runs/repertoire-NAME")
+    parser.add_argument(
+        "--out", type=Path, metavar="DIR", help="default runs/repertoire-NAME[-WORLD]"
+    )
 
 
 def run(args: argparse.Namespace) -> int:
@@ -87,7 +90,7 @@ def run(args: argparse.Namespace) -> int:
         )
     except ValueError as exc:
         raise ConfigError(f"--{exc}") from None
-    out = args.out or Path("runs") / f"repertoire-{formation.name}"
+    out = args.out or default_folder(formation.name, command="repertoire", world=world.file)
     build_repertoire(
         formation,
         out,

@@ -15,6 +15,7 @@ from qdsega.description import (
     resolve_formation,
 )
 from qdsega.errors import ConfigError
+from qdsega.folder_names import default_folder
 from qdsega.training.config import SIMULATORS, TrainingConfig, resolve_config
 from qdsega.training.progress import ProgressDisplay
 from qdsega.training.run import (
@@ -27,7 +28,6 @@ from qdsega.training.run import (
 
 NAME = "train"
 HELP = "learn locomotion with QDSEGA and write a run folder (or continue one with --resume)"
-RUNS_DIR = Path("runs")
 """Where run folders go when --out is not given."""
 _RUN_OPTIONS = (
     "sim", "workers", "ray", "preset", "config", "seed", "out", "overwrite", "generations",
@@ -134,9 +134,12 @@ def run(args: argparse.Namespace) -> int:
 
             connect(config.ray, cpus=config.workers)
         world = None if args.world is None else named_world(args.world)
-        place = "" if world is None else f"-{world.name}"
-        name = f"{args.formation.stem}{place}-{config.sim}-seed{config.seed}"
-        out = args.out or RUNS_DIR / name
+        out = args.out or default_folder(
+            args.formation.stem,
+            world=None if world is None else world.file,
+            settings=[config.sim],
+            seed=config.seed,
+        )
         if args.allow_unmatched and args.warm_start is None:
             raise ConfigError("--allow-unmatched goes with --warm-start RUN")
         warm_start = args.warm_start
