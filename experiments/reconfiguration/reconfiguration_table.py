@@ -69,8 +69,8 @@ AGGREGATE_COLUMNS = (
     "fresh final F (m)",
     "fresh generations to 0.9 F",
     "warm generations to 0.9 F",
-    "warm / fresh generations",
-    "warm / fresh simulated steps",
+    "median of warm / fresh generations",
+    "median of warm / fresh simulated steps",
     "aim: warm <= 20 % of fresh",
 )
 

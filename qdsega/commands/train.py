@@ -59,7 +59,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "--ray",
         metavar="local|ADDRESS",
         help="the workers are Ray actors: local starts Ray on this machine, an address joins a "
-        "cluster (pip install 'qdsega[ray]'); the run learns the same",
+        "cluster (pip install -e '.[ray]' in the checkout); the run learns the same",
     )
     parser.add_argument(
         "--preset",
