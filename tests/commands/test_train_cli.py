@@ -107,18 +107,19 @@ def test_a_nul_character_in_any_yaml_is_one_line_with_the_file_and_its_line(
     assert "unacceptable character #x0000" in line and not run.exists()
 
 
-def test_resuming_a_finished_run_succeeds_and_says_where_its_result_is(tiny_run, capsys):
-    before = {p.name: p.stat().st_mtime_ns for p in tiny_run.iterdir()}
-    assert main(["train", "--resume", str(tiny_run)]) == 0
+def test_resuming_a_finished_run_succeeds_and_says_where_its_result_is(tmp_path, capsys):
+    run = tmp_path / "run"
+    args = ["--sim", "msm", "--generations", "1", "--trials", "200", "--out", str(run)]
+    assert main(["train", "quadruped", *args, "--quiet"]) == 0
+    (trained,) = capsys.readouterr().out.splitlines()
+    before = {p.name: p.stat().st_mtime_ns for p in run.iterdir()}
+    assert main(["train", "--resume", str(run)]) == 0
     captured = capsys.readouterr()
     (line,) = captured.out.splitlines()
-    summary = json.loads((tiny_run / "summary.json").read_text())
-    assert line.startswith(
-        "snake5: the run is already finished, nothing to resume; its result: greedy policy of "
-        f"generation {summary['result_generation']} {summary['distance_m']:.4f} m with exact "
-    )
-    assert line.endswith(f" -> {tiny_run}") and captured.err == ""
-    assert {p.name: p.stat().st_mtime_ns for p in tiny_run.iterdir()} == before  # untouched
+    prefix = "quadruped: the run is already finished, nothing to resume; its result: "
+    assert line == prefix + trained.removeprefix("quadruped: ") and captured.err == ""
+    assert line.endswith(f" -> {run}")
+    assert {p.name: p.stat().st_mtime_ns for p in run.iterdir()} == before  # untouched
 
 
 def test_a_memo_run_whose_table_missed_says_so():
