@@ -126,7 +126,7 @@ def transfer(base: Path, new: str) -> float:
     """The exact distance (m) of ``base``'s greedy policy on the formation ``new`` (replayed
     once, then read from ``base``)."""
     name = load_formation(resolve_formation(Path(new))).name
-    file = RunFolder(base).evaluation_on(name)
+    file = RunFolder(base).evaluation_file(formation=name)
     if file.is_file():
         result: dict[str, Any] = RunFolder(base).read_json(file.name)
     else:

@@ -56,6 +56,11 @@ def add_search_arguments(parser: argparse.ArgumentParser, *, out: str) -> None:
         "--top", type=int, default=defaults.top, metavar="K",
         help=f"candidates learnt to the end besides the body as it is ({defaults.top})",
     )  # fmt: skip
+    parser.add_argument(
+        "--allow-blocked", action="store_true",
+        help="go on with a body whose joint cannot reach a level without the body hitting "
+        "itself (a warning for the body as it is), instead of refusing or dropping it",
+    )  # fmt: skip
 
 
 def run(args: argparse.Namespace) -> int:
@@ -99,7 +104,13 @@ def search(
     from qdsega.reform.search import reform
     from qdsega.reform.settings import ReformSettings
 
-    settings = ReformSettings(seed=args.seed, screen=args.screen, rounds=args.rounds, top=args.top)
+    settings = ReformSettings(
+        seed=args.seed,
+        screen=args.screen,
+        rounds=args.rounds,
+        top=args.top,
+        allow_blocked=args.allow_blocked,
+    )
     return reform(
         formation,
         out=out,
