@@ -476,7 +476,10 @@ def _claim(folder: ReformFolder, inputs: dict[str, Any]) -> None:
     own = Path(inputs["formation_file"])
     if record.is_file():
         previous = json.loads(record.read_text(encoding="utf-8"))
-        if previous.get("inputs") != inputs:
+        earlier = previous.get("inputs", {})
+        if "settings" in earlier:  # a reform begun before a setting existed had its default
+            earlier["settings"] = {**asdict(ReformSettings()), **earlier["settings"]}
+        if earlier != inputs:
             message = (
                 "holds another reform (other body, world, spares or settings); choose another --out"
             )

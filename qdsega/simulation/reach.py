@@ -131,7 +131,11 @@ def check_reach(robot: AssembledRobot, *, allow_blocked: bool = False) -> None:
     more = f" ({others} more level{'s' * (others > 1)} blocked)" if others else ""
     error = FormationError(f"{blocked[0]}{more}", file=formation.file, line=unit.line)
     if not allow_blocked:
-        raise error
+        raise FormationError(
+            f"{blocked[0]}{more} (--allow-blocked goes on regardless)",
+            file=formation.file,
+            line=unit.line,
+        )
     warnings.warn(
         f"{error}; going on (--allow-blocked): a command the units stop fails as a missed level",
         QdsegaWarning,

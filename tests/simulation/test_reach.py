@@ -129,6 +129,8 @@ def test_allow_blocked_assembles_the_body_with_the_same_message_as_a_warning(
     captured = capsys.readouterr()
     (warning,) = captured.err.splitlines()
     message = refusal.removeprefix("qdsega assemble: error: ")
+    assert message.endswith(" (--allow-blocked goes on regardless)")
+    message = message.removesuffix(" (--allow-blocked goes on regardless)")
     assert message.startswith(f"{file}:") and "cannot reach level 1 (45 deg)" in message
     assert warning.startswith(f"qdsega assemble: warning: {message}; going on (--allow-blocked)")
     assert out.is_file() and "wide" in captured.out
