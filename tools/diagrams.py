@@ -60,28 +60,30 @@ DPI = 100
 """The diagrams' resolution (dots per inch): a figure of 12 x 6.4 inches is 1200 x 640 px."""
 COLOURS = 64
 """A diagram's palette: a few fills and the text's anti-aliasing; a third of the full PNG's size."""
+CHARS_PER_UNIT = 14.3
+"""Characters of 8.5 pt text that fit in one unit of a box's width, its margins left."""
 GREEN, BLUE, ORANGE, GREY = "#e3f1e0", "#e1ebf7", "#fbe9d6", "#eeeeee"
 """The boxes' fills: the GA's population, learning, rating and checking, the result."""
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class Box:
-    """A step of a diagram: a bold title over a few wrapped lines, centred at (x, y) in
-    axes units of a 0..12 x 0..6.4 canvas.
+    """A step of a diagram: a bold title over a paragraph, centred at (x, y) on a 12 x 6.4
+    canvas (1 = 100 px).
 
     Attributes:
         x, y: the centre.
         title: one line, bold.
-        lines: the body, each wrapped to ``width`` characters.
+        text: the paragraph, wrapped to the box's width.
         colour: the fill.
         width, height: the box's size.
-        source: the module that does the step, in grey under the body.
+        source: the modules that do the step, in grey at the bottom.
     """
 
     x: float
     y: float
     title: str
-    lines: tuple[str, ...]
+    text: str
     colour: str
     width: float = 3.0
     height: float = 2.0
@@ -128,8 +130,8 @@ def _draw_box(ax: plt.Axes, box: Box) -> None:
             linewidth=1.2,
         )
     )
-    chars = int(box.width * 14.3)
-    body = "\n".join(textwrap.fill(line, chars, break_on_hyphens=False) for line in box.lines)
+    chars = int(box.width * CHARS_PER_UNIT)
+    body = textwrap.fill(box.text, chars, break_on_hyphens=False)
     top = box.y + box.height / 2 - 0.12
     ax.text(box.x, top, box.title, ha="center", va="top", fontsize=10.5, fontweight="bold")
     ax.text(box.x - box.width / 2 + 0.12, top - 0.3, body, ha="left", va="top", fontsize=8.5)
@@ -194,48 +196,48 @@ def draw_loop(out: Path) -> Path:
     with the paper's equation numbers and the elitism the run adds."""
     fig, ax = _canvas("QDSEGA: one generation (the paper's Fig. 7, as qdsega.agent runs it)")
     population = Box(
-        2.0, 4.3, "1. Population (GA)",
-        ("N genes, one character per actuated joint: its level index; the phenotype is a "
-         "posture. N = 200 (paper-legged), 40 (memo-legged), 30 (paper-snake). The first "
-         "population is drawn at random.",),
-        GREEN, source="agent/genetic.py",
+        x=2.0, y=4.3, title="1. Population (GA)",
+        text="N genes, one character per actuated joint: its level index; the phenotype is a "
+            "posture. N = 200 (paper-legged), 40 (memo-legged), 30 (paper-snake). The first "
+            "population is drawn at random.",
+        colour=GREEN, source="agent/genetic.py",
     )  # fmt: skip
     actions = Box(
-        6.0, 4.3, "2. Action set and Q-table",
-        ("Genes with the same phenotype are one action: the distinct postures (Fig. 8). "
-         "States: interior (the start posture and each action's) x exterior (the light's "
-         "bearing, 4 bins). Q starts from the last generation's where state and action "
-         "persist (carry_q).",),
-        BLUE, source="agent/space.py, learner.py",
+        x=6.0, y=4.3, title="2. Action set and Q-table",
+        text="Genes with the same phenotype are one action: the distinct postures (Fig. 8). "
+            "States: interior (the start posture and each action's) x exterior (the light's "
+            "bearing, 4 bins). Q starts from the last generation's where state and action "
+            "persist (carry_q).",
+        colour=BLUE, source="agent/space.py, learner.py",
     )  # fmt: skip
     learning = Box(
-        10.0, 4.3, "3. Q-learning in the world",
-        ("Trials of 30 commands from the start posture, on a table, in the MSM or in "
-         "PyBullet; 10000 a generation (1000 for snakes). Boltzmann selection at T of "
-         "eq. (18); reward eq. (17); update eq. (1), alpha 0.5, gamma 0.9. A failed "
-         "command: the penalty, and the trial ends.",),
-        BLUE, source="agent/qlearning.py, world_loop.py",
+        x=10.0, y=4.3, title="3. Q-learning in the world",
+        text="Trials of 30 commands from the start posture, on a table, in the MSM or in "
+            "PyBullet; 10000 a generation (1000 for snakes). Boltzmann selection at T of "
+            "eq. (18); reward eq. (17); update eq. (1), alpha 0.5, gamma 0.9. A failed "
+            "command: the penalty, and the trial ends.",
+        colour=BLUE, source="agent/qlearning.py, world_loop.py",
     )  # fmt: skip
     fitness = Box(
-        10.0, 1.4, "4. Fitness of each action",
-        ("Q regulated per state to [0, 1] (eqs. 2-3); fit_Q: the top-j means over all states "
-         "(eq. 4, w_1 = 0, w_Ns = 1); fit_u: its share of the uses (eq. 5); "
-         "fit = fit_Q + k_f fit_u (eq. 6), k_f = 1000.",),
-        ORANGE, source="agent/fitness.py",
+        x=10.0, y=1.4, title="4. Fitness of each action",
+        text="Q regulated per state to [0, 1] (eqs. 2-3); fit_Q: the top-j means over all states "
+            "(eq. 4, w_1 = 0, w_Ns = 1); fit_u: its share of the uses (eq. 5); "
+            "fit = fit_Q + k_f fit_u (eq. 6), k_f = 1000.",
+        colour=ORANGE, source="agent/fitness.py",
     )  # fmt: skip
     reproduce = Box(
-        6.0, 1.4, "5. Selection and reproduction",
-        ("Roulette wheel, one slot per action as large as its fitness, shared by its genes; "
-         "crossover in pairs (uniform 0.2, or one-point 0.5 for snakes); mutation per "
-         "character to another level (0.001, or 0.02 for snakes).",),
-        ORANGE, source="agent/genetic.py",
+        x=6.0, y=1.4, title="5. Selection and reproduction",
+        text="Roulette wheel, one slot per action as large as its fitness, shared by its genes; "
+            "crossover in pairs (uniform 0.2, or one-point 0.5 for snakes); mutation per "
+            "character to another level (0.001, or 0.02 for snakes).",
+        colour=ORANGE, source="agent/genetic.py",
     )  # fmt: skip
     elite = Box(
-        2.0, 1.4, "The best exact trial",
-        ("Each generation's greedy policy with exact physics (replayed where it learnt on a "
-         "table): the farthest is the run's result. The farthest exact trial's postures go "
-         "back into a population that lost them (elitism, at most N/2).",),
-        GREY, source="learner.py: verify, genetic.py: with_elite",
+        x=2.0, y=1.4, title="The best exact trial",
+        text="Each generation's greedy policy with exact physics (replayed where it learnt on a "
+            "table): the farthest is the run's result. The farthest exact trial's postures go "
+            "back into a population that lost them (elitism, at most N/2).",
+        colour=GREY, source="learner.py: verify, genetic.py: with_elite",
     )  # fmt: skip
     for box in (population, actions, learning, fitness, reproduce, elite):
         _draw_box(ax, box)
@@ -265,49 +267,49 @@ def draw_memo(out: Path) -> Path:
     and the table grounded in what they observed."""
     fig, ax = _canvas("Memo mode: learn on measured moves, check and correct them in exact physics")
     measure = Box(
-        2.0, 4.2, "1. Measure each move once",
-        ("For each posture pair i -> j not yet in the table: settle the robot in i, command "
-         "j through the lower agent, keep its move in the body frame (dx, dy, dtheta) and "
-         "whether the command failed. Grouped by start posture, spread over --workers "
-         "PyBullet processes; on varied ground, the mean over 6 spots (memo_spots).",),
-        GREEN, height=2.0, source="locomotion/memo.py",
+        x=2.0, y=4.2, title="1. Measure each move once",
+        text="For each posture pair i -> j not yet in the table: settle the robot in i, command "
+            "j through the lower agent, keep its move in the body frame (dx, dy, dtheta) and "
+            "whether the command failed. Grouped by start posture, spread over --workers "
+            "PyBullet processes; on varied ground, the mean over 6 spots (memo_spots).",
+        colour=GREEN, height=2.0, source="locomotion/memo.py",
     )  # fmt: skip
     table = Box(
-        6.0, 4.2, "2. The transition table",
-        ("The measured moves (transitions.npz). Asked for i -> j, the grounded table answers, "
-         "the first it knows: a remembered exact trial's move where the walk follows that "
-         "trial; the latest i -> j observed after posture h; the mean observed i -> j; the "
-         "measurement less the RMS gap.",),
-        BLUE, height=2.0, source="agent/grounding.py",
+        x=6.0, y=4.2, title="2. The transition table",
+        text="The measured moves (transitions.npz). Asked for i -> j, the grounded table answers, "
+            "the first it knows: a remembered exact trial's move where the walk follows that "
+            "trial; the latest i -> j observed after posture h; the mean observed i -> j; the "
+            "measurement less the RMS gap.",
+        colour=BLUE, height=2.0, source="agent/grounding.py",
     )  # fmt: skip
     learn = Box(
-        10.0, 4.2, "3. Learn on the table",
-        ("One generation of QDSEGA, compiled (numba): every trial of the preset on the "
-         "table, then the GA. The greedy policy's walk on the table is its prediction "
-         "(greedy_distance_m).",),
-        BLUE, height=2.0, source="agent/learner.py, qlearning.py",
+        x=10.0, y=4.2, title="3. Learn on the table",
+        text="One generation of QDSEGA, compiled (numba): every trial of the preset on the "
+            "table, then the GA. The greedy policy's walk on the table is its prediction "
+            "(greedy_distance_m).",
+        colour=BLUE, height=2.0, source="agent/learner.py, qlearning.py",
     )  # fmt: skip
     replay = Box(
-        10.0, 1.4, "4. Replay in exact physics",
-        ("Every command simulated, over the workers: exploring trials of the Q-table "
-         "(explore_trials 4), one policy learnt on the table's upper bound (optimism), the "
-         "greedy policy (greedy_exact_m: the learning curve), then neighbours of the best "
-         "exact trial so far (local_search 10).",),
-        ORANGE, height=2.0, source="agent/verification.py, locomotion/exact_trials.py",
+        x=10.0, y=1.4, title="4. Replay in exact physics",
+        text="Every command simulated, over the workers: exploring trials of the Q-table "
+            "(explore_trials 4), one policy learnt on the table's upper bound (optimism), the "
+            "greedy policy (greedy_exact_m: the learning curve), then neighbours of the best "
+            "exact trial so far (local_search 10).",
+        colour=ORANGE, height=2.0, source="agent/verification.py, locomotion/exact_trials.py",
     )  # fmt: skip
     ground = Box(
-        6.0, 1.4, "5. Ground the table",
-        ("Every command of every exact trial is observed: its move, keyed on the posture "
-         "pair and the posture before (ground_table). The farthest exact trial becomes the "
-         "learner's elite (elitism) and the local search's parent.",),
-        ORANGE, height=2.0, source="training/sims.py: observe, learner.py: verify",
+        x=6.0, y=1.4, title="5. Ground the table",
+        text="Every command of every exact trial is observed: its move, keyed on the posture "
+            "pair and the posture before (ground_table). The farthest exact trial becomes the "
+            "learner's elite (elitism) and the local search's parent.",
+        colour=ORANGE, height=2.0, source="training/sims.py: observe, learner.py: verify",
     )  # fmt: skip
     result = Box(
-        2.0, 1.4, "The run's result",
-        ("The farthest greedy replay of any generation, with exact physics (distance_m in "
-         "summary.json); metrics.csv holds each generation's prediction (3) and exact "
-         "replay (4).",),
-        GREY, height=2.0, source="training/run.py",
+        x=2.0, y=1.4, title="The run's result",
+        text="The farthest greedy replay of any generation, with exact physics (distance_m in "
+            "summary.json); metrics.csv holds each generation's prediction (3) and exact "
+            "replay (4).",
+        colour=GREY, height=2.0, source="training/run.py",
     )  # fmt: skip
     for box in (measure, table, learn, replay, ground, result):
         _draw_box(ax, box)
