@@ -1,7 +1,7 @@
 """The docs' pictures, each drawn by one subcommand into docs/figures/ (or ``--out``).
 
 Usage: .venv/bin/python tools/diagrams.py loop|memo|archive REPERTOIRE|adaptation ADAPT
-[--fresh RUN]|report RUN [--out FILE.png]
+[--fresh RUN]|report RUN [--window WxH] [--out FILE.png]
 
 * ``loop``: QDSEGA's generation loop (Fig. 7 of the paper) as ``qdsega.agent`` runs it.
 * ``memo``: memo mode's pipeline, measured table to grounded table, as ``qdsega train --sim
@@ -10,7 +10,8 @@ Usage: .venv/bin/python tools/diagrams.py loop|memo|archive REPERTOIRE|adaptatio
   descriptor, two axes at a time.
 * ``adaptation ADAPT``: a ``qdsega adapt`` folder's curve (``--fresh RUN``: with a fresh run's
   result F), drawn as ``qdsega adapt`` draws it.
-* ``report RUN``: a screenshot of ``RUN/report.html`` (``qdsega report``) in headless Chromium.
+* ``report RUN``: a screenshot of ``RUN/report.html`` (``qdsega report``) in headless Chromium,
+  the top of the page in a window of ``--window`` pixels.
 
 Bad input is one line on stderr and exit status 2.
 """
@@ -148,8 +149,8 @@ def _arrow(
     at: tuple[float, float] | None = None,
     dashed: bool = False,
 ) -> None:
-    """An arrow along the polyline ``points``, its ``label`` centred at ``at`` (default the
-    middle of its first segment)."""
+    """An arrow along the polyline ``points``, its ``label`` centred at ``at``; by default
+    above a horizontal first segment, or on the middle of another."""
     codes = [MplPath.MOVETO] + [MplPath.LINETO] * (len(points) - 1)
     ax.add_patch(
         FancyArrowPatch(
@@ -410,6 +411,17 @@ def screenshot(page: Path, out: Path, *, chromium: str, window: tuple[int, int] 
     return out
 
 
+def window_size(text: str) -> tuple[int, int]:
+    """``WIDTHxHEIGHT`` in pixels, each from 100 to 10000."""
+    try:
+        width, height = (int(part) for part in text.split("x"))
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"not WIDTHxHEIGHT: {text!r}") from None
+    if not (100 <= width <= 10000 and 100 <= height <= 10000):
+        raise argparse.ArgumentTypeError(f"each side from 100 to 10000 px: {text!r}")
+    return width, height
+
+
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     commands = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
@@ -424,6 +436,9 @@ def main() -> int:
     )
     report = commands.add_parser("report", help="a screenshot of a run's report.html")
     report.add_argument("folder", type=Path, metavar="RUN", help="a folder with report.html")
+    report.add_argument(
+        "--window", type=window_size, default=WINDOW, metavar="WxH", help="px (1200x900)"
+    )
     for command in commands.choices.values():
         command.add_argument("--out", type=Path, metavar="FILE.png", help="default docs/figures/")
     args = parser.parse_args()
@@ -445,7 +460,7 @@ def main() -> int:
                 print(f"diagrams.py report: error: no Chromium on the PATH ({names}); install "
                       "one to take the screenshot", file=sys.stderr)  # fmt: skip
                 return 2
-            written = screenshot(page, out, chromium=chromium)
+            written = screenshot(page, out, chromium=chromium, window=args.window)
     except QdsegaError as exc:
         print(f"diagrams.py {args.command}: error: {exc}", file=sys.stderr)
         return 2

@@ -94,6 +94,9 @@ def test_the_report_is_shot_at_the_window_size(monkeypatch, tmp_path):
     monkeypatch.setenv("PATH", str(fake.parent))
     assert main(monkeypatch, "report", tmp_path / "run", "--out", tmp_path / "shot.png") == 0
     assert Image.open(tmp_path / "shot.png").size == DIAGRAMS["WINDOW"]
+    taller = ("--window", "640x1000", "--out", tmp_path / "tall.png")
+    assert main(monkeypatch, "report", tmp_path / "run", *taller) == 0
+    assert Image.open(tmp_path / "tall.png").size == (640, 1000)
 
 
 @pytest.mark.slow
