@@ -26,8 +26,8 @@ NEAREST_BLOCK = 8192
 QD_OFFSET_M = -10.0
 """The offset subtracted from every elite's distance in the QD-score (m), pyribs'
 ``qd_score_offset``: a distance can be negative, and 10 m back is beyond the farthest any body
-here went in a 30-command trial (5.96 m), so every term is positive and the score only grows
-as MAP-Elites fills or improves a cell."""
+here went in a 30-command trial (snake10's 5.96 m, docs/notes/2026-12-01-agent-designs.md), so
+every term is positive and the score only grows as MAP-Elites fills or improves a cell."""
 
 
 def grid_centroids(dims: int, cells_per_dim: int) -> np.ndarray:
