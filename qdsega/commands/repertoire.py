@@ -9,6 +9,7 @@ from typing import Any
 from qdsega.adaptation.fills import FILLS, default_fill
 from qdsega.adaptation.folders import RepertoireFolder
 from qdsega.errors import ConfigError
+from qdsega.folder_names import default_folder
 
 NAME = "repertoire"
 HELP = (
@@ -41,7 +42,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--cells", type=int, metavar="C", help=f"archive cells ({cells})")
     parser.add_argument("--seed", type=int, metavar="S", help="default 0")
     parser.add_argument("--workers", type=int, metavar="N", help="processes (default 2)")
-    parser.add_argument("--out", type=Path, metavar="DIR", help="default runs/repertoire-NAME")
+    parser.add_argument(
+        "--out", type=Path, metavar="DIR", help="default runs/repertoire-NAME[-WORLD]"
+    )
     parser.add_argument(
         "--export",
         action="store_true",
@@ -112,7 +115,7 @@ def run(args: argparse.Namespace) -> int:
         )
     except ValueError as exc:
         raise ConfigError(f"--{exc}") from None
-    out = args.out or Path("runs") / f"repertoire-{formation.name}"
+    out = args.out or default_folder(formation.name, command="repertoire", world=world.file)
     build_repertoire(
         formation,
         out,
