@@ -7,6 +7,7 @@ import argparse
 from pathlib import Path
 
 from qdsega.errors import ConfigError
+from qdsega.folder_names import RUNS
 from qdsega.simulation.camera import HEIGHT_PX, WIDTH_PX
 
 NAME = "gallery"
@@ -17,9 +18,7 @@ HELP = (
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument(
-        "--out", type=Path, default=Path("gallery"), metavar="DIR", help="default ./gallery"
-    )
+    parser.add_argument("--out", type=Path, metavar="DIR", help="default runs/gallery")
     parser.add_argument(
         "--formation",
         nargs="+",
@@ -64,7 +63,8 @@ def run(args: argparse.Namespace) -> int:
     ]
     worlds = [named_world(name) for name in args.world or shipped_world_names()]
     units = [load_unit_type(UNITS_DIR, name) for name in shipped_unit_names()]
-    drawn = draw_gallery(args.out, formations=formations, worlds=worlds, units=units, camera=camera)
+    out = args.out or RUNS / NAME
+    drawn = draw_gallery(out, formations=formations, worlds=worlds, units=units, camera=camera)
     for group, files in (
         ("bodies", drawn.bodies),
         ("worlds", drawn.worlds),
