@@ -1,6 +1,8 @@
 # Two entry points (see README): `make demo` and `make test`.
 # Both create a virtual environment inside the checkout on first use.
-PYTHON ?= python3
+# The interpreter .venv is made with: PYTHON=... where given, else tools/pick_python.sh picks
+# python3.11 (pybullet has wheels for it), else the newest of 3.13 and 3.12.
+PYTHON ?=
 VENV := .venv
 BIN := $(VENV)/bin
 # The bench extra's PPO needs torch. A plain `pip install torch` pulls a CUDA build of several
@@ -13,7 +15,8 @@ TORCH_INDEX ?=
 
 # The core package alone: everything the demo needs.
 $(BIN)/qdsega: pyproject.toml
-	$(PYTHON) -m venv $(VENV)
+	@python="$$(PYTHON='$(PYTHON)' /bin/sh tools/pick_python.sh)" && echo "$$python -m venv $(VENV)" \
+		&& "$$python" -m venv $(VENV)
 	$(BIN)/pip install --quiet --upgrade pip
 	$(BIN)/pip install --quiet -e .
 	touch $@

@@ -16,6 +16,7 @@ from qdsega.commands import (
     bench,
     design,
     evaluate,
+    gallery,
     match,
     plot,
     reform,
@@ -54,7 +55,7 @@ class ShowWarning(Protocol):
 
 COMMANDS = (
     assemble, train, evaluate, plot, render, report, sweep, match, bench, repertoire, adapt,
-    reform, design,
+    reform, design, gallery,
 )  # fmt: skip
 """Each module provides ``NAME``, ``HELP``, ``add_arguments(parser)`` and ``run(args) -> int``."""
 

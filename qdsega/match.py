@@ -239,7 +239,7 @@ def _page(
         for world in worlds:
             cell = cells.get((formation, world))
             still = stills.get((formation, world))
-            picture = "" if still is None else f'<br><img src="{_png(still)}" width="240">'
+            picture = "" if still is None else f'<br><img src="{_png(still)}" width="320">'
             mark = ' class="best"' if best.get(world) == formation else ""
             tds.append(f"<td{mark}>{html.escape(_text(cell))}{picture}</td>")
         rows.append(f"<tr><th>{html.escape(formation)}</th>{''.join(tds)}</tr>")

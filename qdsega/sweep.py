@@ -45,6 +45,7 @@ from qdsega.description import (
 )
 from qdsega.driver import error_line, run_jobs
 from qdsega.errors import ConfigError, WorldError
+from qdsega.folder_names import default_folder
 from qdsega.progress import ProgressFactory
 from qdsega.training.config import SIMULATORS, default_preset, resolve_config
 from qdsega.training.run import TrainingInterrupted, train_or_resume
@@ -171,10 +172,9 @@ def grid_runs(
         formations, worlds, presets, configs, seeds
     ):
         preset = preset or default_preset(formation, sim)
-        place = "" if world is None or world.file is None else f"-{world.file.stem}"
-        label = f"{path.stem}{place}-{preset}-{name}-seed{seed}"
-        config_file = out / "configs" / f"{name}.yaml"
         where = None if world is None or world.file is None else world.file.resolve()
+        label = default_folder(path.stem, world=where, settings=[preset, name], seed=seed).name
+        config_file = out / "configs" / f"{name}.yaml"
         runs.append(
             SweepRun(
                 label, path.resolve(), where, sim, preset, name, config_file, seed, reference_trials

@@ -100,6 +100,10 @@ def load_yaml(file: Path, *, error_type: type[QdsegaError] = FormationError) -> 
         line = None if mark is None else mark.line + 1
         problem = exc.problem or exc.context or "invalid YAML"
         raise error_type(f"YAML syntax error: {problem}", file=file, line=line) from None
+    except yaml.reader.ReaderError as exc:  # a character YAML forbids (NUL, ...): no mark
+        line = text.count("\n", 0, exc.position) + 1
+        message = f"YAML syntax error: unacceptable character #x{exc.character:04x} ({exc.reason})"
+        raise error_type(message, file=file, line=line) from None
     except yaml.YAMLError as exc:
         raise error_type(f"YAML error: {exc}", file=file) from None
     if root is None:

@@ -50,7 +50,8 @@ def _reference_cache(tmp_path_factory: pytest.TempPathFactory) -> None:
 @pytest.fixture(scope="session")
 def tiny_run(tmp_path_factory: pytest.TempPathFactory) -> Path:
     """A finished, evaluated run (snake5 in memo mode, seconds of training), made once per test
-    process; copy it (:func:`shutil.copytree`) before changing it."""
+    process; copy it (:func:`shutil.copytree`) before changing it. What train and evaluate
+    printed is beside it, in ``printed.txt``."""
     from helpers import TINY_TRAINING, run_cli
 
     folder = tmp_path_factory.mktemp("tiny-run")
@@ -58,11 +59,12 @@ def tiny_run(tmp_path_factory: pytest.TempPathFactory) -> Path:
     run = folder / "snake5"
     trained = run_cli(
         "train", "snake5", "--sim", "memo", "--generations", "1",
-        "--config", folder / "tiny.yaml", "--out", run, "--quiet",
+        "--config", folder / "tiny.yaml", "--out", run,
     )  # fmt: skip
     assert trained.returncode == 0, trained.stderr
     evaluated = run_cli("evaluate", run, "--reference-trials", "0")
     assert evaluated.returncode == 0, evaluated.stderr
+    (folder / "printed.txt").write_text(trained.stdout + trained.stderr + evaluated.stdout)
     return run
 
 

@@ -11,7 +11,7 @@ PACKAGE = Path(__file__).resolve().parents[1] / "qdsega"
 
 LAYERS = (
     ("qdsega.errors",),
-    ("qdsega.atomic", "qdsega.yaml_reader", "qdsega.progress", "qdsega.jit"),
+    ("qdsega.atomic", "qdsega.yaml_reader", "qdsega.progress", "qdsega.folder_names", "qdsega.jit"),
     ("qdsega.description",),
     ("qdsega.assembly",),
     ("qdsega.simulation", "qdsega.workers", "qdsega.task"),

@@ -3,6 +3,9 @@ and qdsega match end to end on a tiny budget."""
 
 from __future__ import annotations
 
+import base64
+
+import imageio.v3 as iio
 import pytest
 from helpers import TINY_TRAINING, run_cli
 
@@ -62,4 +65,6 @@ def test_match_writes_the_matrix_the_best_bodies_and_a_page_with_stills(tmp_path
     assert "| quadruped |" in table and "cannot start" in table
     page = (out / "match.html").read_text()
     assert page.count("data:image/png;base64,") == 2  # one still and the heatmap
+    still = page.split("data:image/png;base64,")[1].split('"')[0]
+    assert iio.imread(base64.b64decode(still)).shape[:2] == (480, 640)  # the usual picture size
     assert (out / "match.png").stat().st_size > 5000

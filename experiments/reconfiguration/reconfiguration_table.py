@@ -69,8 +69,8 @@ AGGREGATE_COLUMNS = (
     "fresh final F (m)",
     "fresh generations to 0.9 F",
     "warm generations to 0.9 F",
-    "warm / fresh generations",
-    "warm / fresh simulated steps",
+    "median of warm / fresh generations",
+    "median of warm / fresh simulated steps",
     "aim: warm <= 20 % of fresh",
 )
 
@@ -126,7 +126,7 @@ def transfer(base: Path, new: str) -> float:
     """The exact distance (m) of ``base``'s greedy policy on the formation ``new`` (replayed
     once, then read from ``base``)."""
     name = load_formation(resolve_formation(Path(new))).name
-    file = RunFolder(base).evaluation_on(name)
+    file = RunFolder(base).evaluation_file(formation=name)
     if file.is_file():
         result: dict[str, Any] = RunFolder(base).read_json(file.name)
     else:

@@ -23,6 +23,11 @@ CVT_ITERATIONS = 30
 """Lloyd iterations of a CVT (-): the centroids move less than a cell's width by then."""
 NEAREST_BLOCK = 8192
 """Points whose nearest centroid is found at once (-)."""
+QD_OFFSET_M = -10.0
+"""The offset subtracted from every elite's distance in the QD-score (m), pyribs'
+``qd_score_offset``: a distance can be negative, and 10 m back is beyond the farthest any body
+here went in a 30-command trial (snake10's 5.96 m, docs/notes/2026-12-01-agent-designs.md), so
+every term is positive and the score only grows as MAP-Elites fills or improves a cell."""
 
 
 def grid_centroids(dims: int, cells_per_dim: int) -> np.ndarray:
@@ -136,6 +141,12 @@ class Archive:
         self.gaits[cell, : len(gait)] = gait
         self.lengths[cell] = len(gait)
         return True
+
+    @property
+    def qd_score(self) -> float:
+        """The QD-score: the sum over elites of their distance minus :data:`QD_OFFSET_M`, a
+        term clipped at zero (an elite beyond the offset counts as an empty cell)."""
+        return float(np.sum(np.maximum(self.fitness[self.filled] - QD_OFFSET_M, 0.0)))
 
     def gait(self, cell: int) -> np.ndarray:
         """The elite posture cycle of ``cell`` (k, J)."""

@@ -34,6 +34,11 @@ class RepertoireFolder:
         """The figure of the archive's elites, drawn once a cell is filled."""
         return self.path / "archive.png"
 
+    @property
+    def elites(self) -> Path:
+        """The elites as CSV, a row each (``qdsega repertoire --export``)."""
+        return self.path / "elites.csv"
+
 
 @dataclass(frozen=True)
 class AdaptationFolder:

@@ -25,11 +25,13 @@ A repertoire folder holds ``repertoire.npz`` (the archive, the search's state) a
 ``repertoire.json`` (what it is of and how it was built); both are replaced after every batch,
 so a build that is stopped, however, continues from its last batch to the same archive. Like a
 run folder, it keeps its own copy of the formation (``formation/``, ``formation.json``) and of
-the world (``world.yaml``), which adaptation reads.
+the world (``world.yaml``), which adaptation reads. :func:`export_repertoire` writes its elites
+as ``elites.csv`` (:func:`write_elites`).
 """
 
 from __future__ import annotations
 
+import csv
 import hashlib
 import json
 import time
@@ -40,7 +42,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from qdsega.adaptation.archive import Archive, cvt_centroids, grid_centroids
+from qdsega.adaptation.archive import QD_OFFSET_M, Archive, cvt_centroids, grid_centroids
 from qdsega.adaptation.descriptor import GaitDescriptor
 from qdsega.adaptation.fills import FILLS
 from qdsega.adaptation.folders import RepertoireFolder
@@ -204,9 +206,7 @@ def build_repertoire(
                 record.update(
                     evaluations_done=emitter.told,
                     wall_s=elapsed + time.perf_counter() - start,
-                    filled=len(archive.filled),
-                    coverage=archive.coverage,
-                    best_m=float(archive.fitness[archive.best()]) if len(archive.filled) else None,
+                    **archive_summary(archive),
                 )
                 _save(out, archive, emitter, record)
                 if line is not None:
@@ -215,6 +215,57 @@ def build_repertoire(
         if line is not None:
             line.close()
     return record
+
+
+def archive_summary(archive: Archive) -> dict[str, Any]:
+    """What a repertoire's record says of its archive: cells filled, coverage, the best
+    distance (m, None where empty), the QD-score and its offset (m)."""
+    filled = len(archive.filled)
+    return {
+        "filled": filled,
+        "coverage": archive.coverage,
+        "best_m": float(archive.fitness[archive.best()]) if filled else None,
+        "qd_score": archive.qd_score,
+        "qd_offset_m": QD_OFFSET_M,
+    }
+
+
+def write_elites(archive: Archive, record: dict[str, Any], path: Path) -> None:
+    """The archive's elites as CSV at ``path``, the farthest first, a row each: the cell, the
+    distance (m), each descriptor value, the cycle's length and the cycle itself, its postures
+    separated by ``;`` and each posture's level indices (in the record's joint order) by
+    spaces."""
+    names = [f"descriptor_{name}" for name in record["descriptor_names"]]
+    cells = sorted((int(c) for c in archive.filled), key=lambda c: (-archive.fitness[c], c))
+    with replaced_atomically(path) as partial, partial.open("w", newline="") as stream:
+        writer = csv.writer(stream, lineterminator="\n")
+        writer.writerow(["cell", "distance_m", *names, "postures", "gait"])
+        for cell in cells:
+            gait = archive.gait(cell)
+            writer.writerow(
+                [
+                    cell,
+                    float(archive.fitness[cell]),
+                    *(float(v) for v in archive.descriptors[cell]),
+                    len(gait),
+                    ";".join(" ".join(str(level) for level in posture) for posture in gait),
+                ]
+            )
+
+
+def export_repertoire(folder: Path) -> tuple[Archive, dict[str, Any]]:
+    """Write a repertoire folder's ``elites.csv`` and bring its record's summary (QD-score
+    included) up to its archive; returns the archive and the record.
+
+    Raises:
+        RunFolderError: no repertoire there, or a corrupt one.
+    """
+    archive, record = load_repertoire(folder)
+    files = RepertoireFolder(folder)
+    write_elites(archive, record, files.elites)
+    record.update(archive_summary(archive))
+    _write_record(folder, record)
+    return archive, record
 
 
 def _describer(
@@ -246,6 +297,8 @@ def load_repertoire(folder: Path) -> tuple[Archive, dict[str, Any]]:
             int(data["told"])
         if not isinstance(record, dict) or len(record["joints"]) != archive.gaits.shape[2]:
             raise ValueError("the record's joints do not fit the archive")
+        if len(record["descriptor_names"]) != archive.centroids.shape[1]:
+            raise ValueError("the record's descriptor names do not fit the archive")
     except (OSError, ValueError, KeyError, TypeError) as exc:
         raise RunFolderError(f"corrupt repertoire ({exc})", file=folder) from None
     return archive, record
@@ -319,10 +372,14 @@ def _save(out: Path, archive: Archive, emitter: MapElites, record: dict[str, Any
     record is at most one ahead of (the record is read only for its wall time)."""
     state = json.dumps(emitter.rng.bit_generator.state)
     told = np.array(emitter.told)
-    folder = RepertoireFolder(out)
-    with replaced_atomically(folder.record) as partial:
-        partial.write_text(json.dumps(record, indent=2) + "\n", encoding="utf-8")
-    with replaced_atomically(folder.archive) as partial:
+    _write_record(out, record)
+    with replaced_atomically(RepertoireFolder(out).archive) as partial:
         arrays = {"search_state": np.array(state), "told": told, **archive.state()}
         # numpy's stubs match **arrays against savez_compressed's allow_pickle: bool
         np.savez_compressed(partial, **arrays)  # type: ignore[arg-type]
+
+
+def _write_record(out: Path, record: dict[str, Any]) -> None:
+    """``repertoire.json``, written then renamed."""
+    with replaced_atomically(RepertoireFolder(out).record) as partial:
+        partial.write_text(json.dumps(record, indent=2) + "\n", encoding="utf-8")

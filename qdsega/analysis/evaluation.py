@@ -22,10 +22,17 @@
 * ``wave`` (formations with two or more joints): the period of the joint-angle sequence and the
   phase lag between neighbouring joints, measured from the commanded angles.
 
+* ``world``: the name of the world it was judged in.
+
+Given another ``world``, ``evaluate_run`` judges the run there instead (a gait learnt on flat
+ground, judged on ice), references included, and writes ``evaluation-in-WORLD.json``, without
+the memo table's prediction (the table knew the run's own world).
+
 ``evaluate_on`` replays the greedy policy on another formation instead (a changed body, its
 joints matched by name, :mod:`qdsega.training.reconfiguration`) and writes
-``evaluation-on-NAME.json``: ``distance_m``, ``failure``, ``postures`` and ``joints`` (the
-names matched, dropped, locked and added).
+``evaluation-on-NAME.json`` (``evaluation-on-NAME-in-WORLD.json`` in another world):
+``distance_m``, ``failure``, ``postures``, ``world`` and ``joints`` (the names matched,
+dropped, locked and added).
 """
 
 from __future__ import annotations
@@ -45,7 +52,7 @@ from qdsega.baselines.reference_search import (
     check_budget,
     reference_gait,
 )
-from qdsega.description import Formation, load_formation, resolve_formation
+from qdsega.description import Formation, World, load_formation, resolve_formation
 from qdsega.errors import ConfigError
 from qdsega.locomotion.env import LocomotionEnv, replay_postures, rules_env
 from qdsega.locomotion.env_world import EnvWorld
@@ -62,17 +69,21 @@ def evaluate_run(
     *,
     reference_trials: int = DEFAULT_BUDGET_TRIALS,
     progress: ProgressFactory | None = None,
+    world: World | None = None,
 ) -> dict[str, Any]:
-    """Replay the run's greedy policy and the reference gaits; write ``evaluation.json``.
+    """Replay the run's greedy policy and the reference gaits; write ``evaluation.json``, or
+    in another ``world`` ``evaluation-in-WORLD.json``.
 
     Args:
         run: the run folder.
         reference_trials: the CMA-ES reference search's budget in trials (0: no search).
         progress: shows the reference search's progress when it runs (None: silent).
+        world: where to judge it (None: the run's own world).
 
     Raises:
         RunFolderError: missing or corrupt run folder; a negative search budget, or one below
             one CMA-ES generation.
+        WorldError: a body that would start inside one of ``world``'s obstacles.
     """
     if reference_trials < 0:
         message = f"--reference-trials must be 0 (no search) or more, got {reference_trials}"
@@ -80,13 +91,15 @@ def evaluate_run(
     run = Path(run)
     finished = replayable_run(run)
     summary, config, policy = finished.summary, finished.config, finished.policy
-    formation = finished.formation
+    formation = finished.formation if world is None else finished.formation_in(world)
     if reference_trials > 0:
         try:
             check_budget(formation, reference_trials)  # before any physics
         except ValueError as exc:
             raise ConfigError(f"reference search: {exc}") from None
-    rules = config.rules(finished.world)
+    if world is not None:
+        check_sim(formation, replace(config, sim="memo"), world)  # the body can start there
+    rules = config.rules(finished.world if world is None else world)
     env = rules_env(formation, rules)
     try:
         learned = replay_policy(env, policy)
@@ -110,7 +123,9 @@ def evaluate_run(
         "sim": config.sim,
         "distance_m": learned["distance_m"],
         "failure": learned["failure"],
-        "memo_prediction_m": summary["greedy_distance"] if config.sim == "memo" else None,
+        "memo_prediction_m": summary["greedy_distance"]
+        if config.sim == "memo" and world is None
+        else None,
         "reference": reference,
         "references": candidates,
         "ratio": learned["distance_m"] / reference["distance_m"]
@@ -118,31 +133,37 @@ def evaluate_run(
         else None,
         "postures": learned["postures"],
         "unit_xy_m": learned["unit_xy_m"],
+        "world": rules.world.name,
     }
     if len(formation.joints) >= 2 and len(learned["postures"]) >= 4:
         result["wave"] = wave_of(formation, np.array(learned["postures"]))
-    with replaced_atomically(run / RunFolder.EVALUATION) as partial:
+    file = finished.folder.evaluation_file(world=None if world is None else world.name)
+    with replaced_atomically(file) as partial:
         partial.write_text(json.dumps(result, indent=2) + "\n", encoding="utf-8")
     return result
 
 
-def evaluate_on(run: Path | str, other: Path | str) -> tuple[dict[str, Any], Path]:
+def evaluate_on(
+    run: Path | str, other: Path | str, *, world: World | None = None
+) -> tuple[dict[str, Any], Path]:
     """Replay the run's greedy policy on the formation ``other`` (a file or a shipped name)
-    under the run's rules; write ``RUN/evaluation-on-NAME.json``; return it and its path.
+    under the run's rules, in ``world`` (None: the run's own); write
+    ``RUN/evaluation-on-NAME.json`` (``-in-WORLD`` in another world); return it and its path.
 
     Raises:
         RunFolderError: missing or corrupt run folder; a bad formation, or one the run's
             lower agent cannot drive.
+        WorldError: a body that would start inside one of ``world``'s obstacles.
     """
     run = Path(run)
     finished = replayable_run(run)
     config, policy = finished.config, finished.policy
-    source, world = finished.formation, finished.world
+    source, place = finished.formation, finished.world if world is None else world
     target = load_formation(resolve_formation(other))
-    target = config.with_light(world.lights(target))
-    check_sim(target, replace(config, sim="memo"))  # the lower agent must drive it
+    target = config.with_light(place.lights(target))
+    check_sim(target, replace(config, sim="memo"), world)  # the lower agent must drive it
     mapping = JointMapping.between(source, target)
-    env = rules_env(target, config.rules(world))
+    env = rules_env(target, config.rules(place))
     try:
         learned = replay_policy(env, mapping.policy(policy, target))
     finally:
@@ -154,8 +175,11 @@ def evaluate_on(run: Path | str, other: Path | str) -> tuple[dict[str, Any], Pat
         "failure": learned["failure"],
         "joints": mapping.report(),
         "postures": learned["postures"],
+        "world": place.name,
     }
-    file = RunFolder(run).evaluation_on(target.name)
+    file = finished.folder.evaluation_file(
+        formation=target.name, world=None if world is None else world.name
+    )
     with replaced_atomically(file) as partial:
         partial.write_text(json.dumps(result, indent=2) + "\n", encoding="utf-8")
     return result, file

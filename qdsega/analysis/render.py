@@ -66,21 +66,27 @@ def final_still(run: Path, camera: CameraConfig) -> np.ndarray:
 
 
 def rest_still(
-    formation: Formation, camera: CameraConfig, *, world: World | None = None
+    formation: Formation,
+    camera: CameraConfig,
+    *,
+    world: World | None = None,
+    turn_deg: float = 0.0,
 ) -> np.ndarray:
     """The body at rest where a trial starts, (height, width, 3) uint8, seen from behind its
     root unit (not along its heading, as a trial is filmed): pictures of the bodies a root
-    unit keeps show them in one frame."""
+    unit keeps show them in one frame. ``turn_deg`` turns the camera around the body
+    (counter-clockwise seen from above) for a view from the side."""
     env = LocomotionEnv(formation=formation, render_mode="rgb_array", camera=camera, world=world)
     try:
         env.reset()
         centres, _ = env.sim.unit_states()
         _, (x, y, z, w) = env.sim.base_pose()
+        root_yaw = math.atan2(2.0 * (w * z + x * y), 1.0 - 2.0 * (y * y + z * z))
         return env.sim.camera_image(
             width=camera.width,
             height=camera.height,
             target_m=(*centres[:, :2].mean(axis=0), 0.05),
-            view_yaw_rad=math.atan2(2.0 * (w * z + x * y), 1.0 - 2.0 * (y * y + z * z)),
+            view_yaw_rad=root_yaw + math.radians(turn_deg),
             distance_m=camera.distance_for(body_extent_m(centres)),
             pitch_rad=camera.pitch_rad,
             fov_deg=camera.fov_deg,

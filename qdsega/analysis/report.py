@@ -65,7 +65,7 @@ def write_report(run: Path | str, out: Path | None = None) -> Path:
         *_warm_start(summary.get("warm_start")),
         "<h2>Evaluation with exact physics</h2>",
         _evaluation(evaluation, run),
-        *_transfers(run),
+        *_transfers(run, summary.get("world", "flat")),
         "<h2>Video</h2>",
         videos_html(run),
         "<h2>Figures</h2>",
@@ -205,21 +205,33 @@ def _warm_start(record: dict[str, Any] | None) -> list[str]:
     return ["<h2>Warm start</h2>", html_table(shown)]
 
 
-def _transfers(run: Path) -> list[str]:
-    """The section on this run's policy replayed on other bodies (``evaluate --formation``)."""
+def _transfers(run: Path, own_world: str) -> list[str]:
+    """The section on this run's policy replayed on other bodies (``evaluate --formation``)
+    and judged in other worlds (``evaluate --world``); a row names a world other than
+    ``own_world``, the run's."""
     rows = {}
-    for file in sorted(run.glob("evaluation-on-*.json")):
+    files = [*sorted(run.glob("evaluation-on-*.json")), *sorted(run.glob("evaluation-in-*.json"))]
+    for file in files:
         try:
             result = json.loads(file.read_text(encoding="utf-8"))
-            failure = "" if result["failure"] is None else f" (failed: {result['failure']})"
-            rows[result["formation"]] = (
-                f"{result['distance_m']:.4f} m{failure}; {describe(result['joints'])}"
+            world = result.get("world", own_world)  # files from before worlds: the run's
+            label = (
+                result["formation"] if world == own_world else f"{result['formation']} in {world}"
             )
-        except (OSError, ValueError, KeyError) as exc:
+            failure = "" if result["failure"] is None else f" (failed: {result['failure']})"
+            if "joints" in result:  # another body
+                facts = describe(result["joints"])
+            else:  # another world, beside its best reference there
+                reference, ratio = result["reference"], result["ratio"]
+                facts = f"best reference: {reference['kind']} {reference['distance_m']:.4f} m"
+                facts += "" if ratio is None else f", ratio {ratio:.3f}"
+            rows[label] = f"{result['distance_m']:.4f} m{failure}; {facts}"
+        except (OSError, ValueError, KeyError, TypeError) as exc:
             raise RunFolderError(f"corrupt run folder ({file.name}: {exc})", file=run) from None
     if not rows:
         return []
-    return ["<h2>This policy on other bodies (exact physics)</h2>", html_table(rows)]
+    heading = "This policy on other bodies and in other worlds (exact physics)"
+    return [f"<h2>{heading}</h2>", html_table(rows)]
 
 
 def videos_html(run: Path, how: str | None = None) -> str:

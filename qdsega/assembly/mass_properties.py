@@ -37,7 +37,7 @@ def link_mass_properties(link: ET.Element, mass_kg: float, *, folder: Path) -> M
     Every ``<collision>`` shape (box, cylinder, sphere, or a closed mesh relative to ``folder``)
     contributes its volume; shapes must not overlap.
     """
-    meshes = [_collision_mesh(c, folder) for c in link.findall("collision")]
+    meshes = [shape_mesh(c, folder) for c in link.findall("collision")]
     # concatenate is annotated as returning any Geometry; of Trimesh meshes it makes a Trimesh
     combined = cast(trimesh.Trimesh, trimesh.util.concatenate(meshes))
     volume = float(combined.volume)
@@ -51,12 +51,15 @@ def link_mass_properties(link: ET.Element, mass_kg: float, *, folder: Path) -> M
     )
 
 
-def _collision_mesh(collision: ET.Element, folder: Path) -> trimesh.Trimesh:
-    transform = _origin_transform(collision.find("origin"))
-    geometry = collision.find("geometry")
+def shape_mesh(element: ET.Element, folder: Path) -> trimesh.Trimesh:
+    """The mesh of a URDF ``<collision>`` or ``<visual>`` in its link's frame: its
+    ``<geometry>`` (box, cylinder, sphere, or a closed mesh relative to ``folder``) placed by
+    its ``<origin>``."""
+    transform = _origin_transform(element.find("origin"))
+    geometry = element.find("geometry")
     shape = None if geometry is None or len(geometry) == 0 else geometry[0]
     if shape is None:
-        raise FormationError("a <collision> needs a <geometry>")
+        raise FormationError(f"a <{element.tag}> needs a <geometry>")
     if shape.tag == "box":
         extents = _floats(shape.get("size"), 3, "box size", SIZE_M)
         return trimesh.creation.box(extents=extents, transform=transform)
@@ -70,9 +73,9 @@ def _collision_mesh(collision: ET.Element, folder: Path) -> trimesh.Trimesh:
     if shape.tag == "mesh":
         mesh = trimesh.load_mesh(folder / shape.get("filename", ""), force="mesh")
         if not mesh.is_watertight:
-            raise FormationError(f"collision mesh {shape.get('filename')} is not closed")
+            raise FormationError(f"{element.tag} mesh {shape.get('filename')} is not closed")
         return mesh.apply_transform(transform)
-    raise FormationError(f"unsupported collision geometry <{shape.tag}>")
+    raise FormationError(f"unsupported {element.tag} geometry <{shape.tag}>")
 
 
 def _origin_transform(origin: ET.Element | None) -> np.ndarray:

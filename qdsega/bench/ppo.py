@@ -9,7 +9,7 @@ which is also how often its deterministic policy is scored in exact physics (the
 :class:`qdsega.locomotion.env.LocomotionEnv`); those scoring episodes are not counted in its
 budget, as QDSEGA's exact replays are (they steer its learning).
 
-Needs the ``bench`` extra: ``pip install 'qdsega[bench]'``.
+Needs the ``bench`` extra (``pip install -e '.[bench]'`` in the checkout).
 """
 
 from __future__ import annotations
@@ -60,7 +60,8 @@ def ppo_curve(task: BenchTask, seed: int) -> Curve:
         from stable_baselines3.common.vec_env import DummyVecEnv
     except ModuleNotFoundError as exc:
         raise ModuleNotFoundError(
-            f"the ppo method needs stable-baselines3 ({exc}): pip install 'qdsega[bench]'"
+            f"the ppo method needs stable-baselines3 ({exc}): "
+            "pip install -e '.[bench]' in the checkout"
         ) from None
     torch.set_num_threads(1)
     torch.distributions.Distribution.set_default_validate_args(False)

@@ -264,7 +264,7 @@ def provenance(command: str) -> Provenance:
     machine = f"{platform.machine()} {platform.processor() or platform.system()}".strip()
     return Provenance(
         machine=f"{machine}, {os.cpu_count()} cores, Python {platform.python_version()}",
-        date=datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M UTC"),
+        date=datetime.datetime.now(datetime.UTC).strftime("%Y-%m-%d %H:%M UTC"),
         commit=commit,
         command=command,
     )

@@ -6,6 +6,7 @@ import argparse
 from pathlib import Path
 
 from qdsega.errors import ConfigError
+from qdsega.folder_names import default_folder
 
 NAME = "adapt"
 HELP = (
@@ -51,7 +52,7 @@ def run(args: argparse.Namespace) -> int:
         folder = RunFolder(args.fresh)
         folder.require_finished()
         fresh_m = float(folder.read_summary()["distance_m"])
-    out = args.out or Path("runs") / f"adapt-{changed.name}"
+    out = args.out or default_folder(changed.name, command="adapt")
     result = adapt(args.repertoire, changed, out, trials=args.trials, progress=ProgressLine)
     files = AdaptationFolder(out)
     adaptation_curve(result, files.curve, fresh_m=fresh_m)

@@ -1,7 +1,8 @@
 """``qdsega assemble``: formation files -> self-contained URDF files, with a summary table.
 
 A body with a joint that cannot reach one of its levels without hitting itself is refused
-(:mod:`qdsega.simulation.reach`), before it trains for nothing."""
+(:mod:`qdsega.simulation.reach`), before it trains for nothing; ``--allow-blocked`` warns
+instead."""
 
 from __future__ import annotations
 
@@ -34,6 +35,12 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         metavar="DIR",
         help="write DIR/<formation name>.urdf for each formation (default: the current folder)",
     )
+    parser.add_argument(
+        "--allow-blocked",
+        action="store_true",
+        help="assemble a body with a level a joint cannot reach without the body hitting "
+        "itself, with a warning instead of an error",
+    )
 
 
 def run(args: argparse.Namespace) -> int:
@@ -50,7 +57,7 @@ def run(args: argparse.Namespace) -> int:
         start = time.perf_counter()
         formation = load_formation(resolve_formation(file))
         robot = assemble(formation)
-        check_reach(robot)
+        check_reach(robot, allow_blocked=args.allow_blocked)
         elapsed_ms = 1000.0 * (time.perf_counter() - start)
         out = args.output or (args.out_dir or Path.cwd()) / f"{formation.name}.urdf"
         write_assembly(robot, out)

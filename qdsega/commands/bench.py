@@ -52,7 +52,9 @@ def run(args: argparse.Namespace) -> int:
         any("ppo" in t.methods for t in tasks)
         and importlib.util.find_spec("stable_baselines3") is None
     ):
-        raise ConfigError("the ppo method needs stable-baselines3: pip install 'qdsega[bench]'")
+        raise ConfigError(
+            "the ppo method needs stable-baselines3: pip install -e '.[bench]' in the checkout"
+        )
     place = "" if tasks == every else suffix(args.world)
     out = args.out or Path(("runs/bench-quick" if args.quick else "benchmarks") + place)
     world = "" if args.world is None else f" --world {args.world}"

@@ -3,9 +3,9 @@
 from __future__ import annotations
 
 import argparse
-from pathlib import Path
 
-from qdsega.commands.reform import add_search_arguments, print_verdict, search, world_suffix
+from qdsega.commands.reform import add_search_arguments, print_verdict, search, world_file
+from qdsega.folder_names import default_folder
 
 NAME = "design"
 HELP = (
@@ -27,7 +27,7 @@ def run(args: argparse.Namespace) -> int:
 
     bag = parse_units(args.units, what="a unit")
     label = "-".join(f"{name}{count}" for name, count in bag.items())
-    out = args.out or Path("runs") / f"design-{label}{world_suffix(args.world)}"
+    out = args.out or default_folder(label, command="design", world=world_file(args.world))
     body = first_body(bag, name=f"design_{label}")
     file = out / "first.yaml"
     if not file.is_file():

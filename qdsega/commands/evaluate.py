@@ -27,36 +27,46 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         help="replay the policy on another formation instead (a changed body: joints matched "
         "by name); writes RUN/evaluation-on-NAME.json",
     )
+    parser.add_argument(
+        "--world",
+        metavar="NAME|FILE",
+        help="judge it in another world instead (a world file or a shipped name: flat, ice, "
+        "slope, stairs, rubble, tunnel, corridor); writes RUN/evaluation-in-WORLD.json",
+    )
 
 
 def run(args: argparse.Namespace) -> int:
     # Imported here: it starts PyBullet, which the other commands need not load.
     from qdsega.analysis.evaluation import evaluate_on, evaluate_run
+    from qdsega.description import named_world
     from qdsega.progress import ProgressLine
     from qdsega.training.joint_mapping import describe
     from qdsega.training.run_folder import RunFolder
 
+    world = None if args.world is None else named_world(args.world)
+    place = "" if world is None else f" in {world.name}"
     if args.formation is not None:
         if args.reference_trials is not None:
             raise ConfigError("--reference-trials does not go with --formation")
-        result, file = evaluate_on(args.run, args.formation)
+        result, file = evaluate_on(args.run, args.formation, world=world)
         joints = describe(result["joints"])
         failure = "" if result["failure"] is None else f" (failed: {result['failure']})"
         print(
-            f"{result['policy_of']} policy on {result['formation']}: "
+            f"{result['policy_of']} policy on {result['formation']}{place}: "
             f"{result['distance_m']:.4f} m with exact physics{failure}; {joints} -> {file}"
         )
         return 0
 
     budget = {} if args.reference_trials is None else {"reference_trials": args.reference_trials}
-    result = evaluate_run(args.run, **budget, progress=ProgressLine)  # on stderr
+    result = evaluate_run(args.run, **budget, progress=ProgressLine, world=world)  # on stderr
     reference = result["reference"]
     ratio = "n/a" if result["ratio"] is None else f"{result['ratio']:.3f}"
     predicted = result["memo_prediction_m"]
     memo = "" if predicted is None else f" (memo predicted {predicted:.4f} m)"
+    file = RunFolder(args.run).evaluation_file(world=None if world is None else world.name)
     print(
-        f"{result['formation']}: learnt policy {result['distance_m']:.4f} m{memo}; "
+        f"{result['formation']}{place}: learnt policy {result['distance_m']:.4f} m{memo}; "
         f"best reference: {reference['kind']} {reference['distance_m']:.4f} m; ratio {ratio} "
-        f"-> {RunFolder(args.run) / RunFolder.EVALUATION}"
+        f"-> {file}"
     )
     return 0

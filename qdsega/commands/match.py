@@ -91,7 +91,7 @@ def run(args: argparse.Namespace) -> int:
     cells = matrix(rows)
     formation_names = list(dict.fromkeys(row["formation"] for row in rows))
     world_names = list(dict.fromkeys(row["world"] for row in rows))
-    camera = CameraConfig(width=320, height=240)
+    camera = CameraConfig()  # the usual picture size
     shot = [(key, cell.run) for key, cell in cells.items() if cell.run]
     line = ProgressLine("stills", len(shot), delay_s=5.0)  # each replays its cell's trial
     stills: dict[tuple[str, str], np.ndarray] = {}

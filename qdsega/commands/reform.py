@@ -7,6 +7,8 @@ import argparse
 from pathlib import Path
 from typing import Any
 
+from qdsega.folder_names import default_folder
+
 NAME = "reform"
 HELP = (
     "find the formation a body's units should take in a world: candidate bodies made of its "
@@ -55,6 +57,11 @@ def add_search_arguments(parser: argparse.ArgumentParser, *, out: str) -> None:
         "--top", type=int, default=defaults.top, metavar="K",
         help=f"candidates learnt to the end besides the body as it is ({defaults.top})",
     )  # fmt: skip
+    parser.add_argument(
+        "--allow-blocked", action="store_true",
+        help="go on with a body whose joint cannot reach a level without the body hitting "
+        "itself (a warning for the body as it is), instead of refusing or dropping it",
+    )  # fmt: skip
 
 
 def run(args: argparse.Namespace) -> int:
@@ -64,7 +71,7 @@ def run(args: argparse.Namespace) -> int:
 
     formation = resolve_formation(args.formation)
     spares = parse_units(args.spare)
-    out = args.out or Path("runs") / f"reform-{formation.stem}{world_suffix(args.world)}"
+    out = args.out or default_folder(formation.stem, command="reform", world=world_file(args.world))
     record = search(args, formation, out, spares=spares, repertoire=args.repertoire)
     winner = record["winner"]
     verdict = (
@@ -76,11 +83,11 @@ def run(args: argparse.Namespace) -> int:
     return 0
 
 
-def world_suffix(world: str | None) -> str:
-    """``-WORLD`` for a default output folder's name ("" for the flat plane)."""
+def world_file(world: str | None) -> Path | None:
+    """The file a ``--world`` argument names (None for the flat plane)."""
     from qdsega.description import resolve_world
 
-    return "" if world is None else f"-{resolve_world(world).stem}"
+    return None if world is None else resolve_world(world)
 
 
 def search(
@@ -98,7 +105,13 @@ def search(
     from qdsega.reform.search import reform
     from qdsega.reform.settings import ReformSettings
 
-    settings = ReformSettings(seed=args.seed, screen=args.screen, rounds=args.rounds, top=args.top)
+    settings = ReformSettings(
+        seed=args.seed,
+        screen=args.screen,
+        rounds=args.rounds,
+        top=args.top,
+        allow_blocked=args.allow_blocked,
+    )
     return reform(
         formation,
         out=out,

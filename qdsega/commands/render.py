@@ -6,6 +6,7 @@ import argparse
 from pathlib import Path
 
 from qdsega.errors import ConfigError, FormationError
+from qdsega.simulation.camera import HEIGHT_PX, WIDTH_PX
 
 NAME = "render"
 HELP = "render a run's greedy policy (or a formation and a posture sequence) as MP4 or GIF"
@@ -26,10 +27,16 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         help="with a formation: one row per step, one level index per joint",
     )
     parser.add_argument(
-        "--width", type=int, default=640, help="pixels (default 640; less for a smaller file)"
+        "--width",
+        type=int,
+        default=WIDTH_PX,
+        help="pixels (default %(default)s; less for a smaller file)",
     )
     parser.add_argument(
-        "--height", type=int, default=480, help="pixels (default 480; less for a smaller file)"
+        "--height",
+        type=int,
+        default=HEIGHT_PX,
+        help="pixels (default %(default)s; less for a smaller file)",
     )
     parser.add_argument("--fps", type=int, default=20, help="frames per simulated second")
     parser.add_argument(

@@ -4,9 +4,12 @@ from __future__ import annotations
 
 import argparse
 from pathlib import Path
+from typing import Any
 
 from qdsega.adaptation.fills import FILLS, default_fill
+from qdsega.adaptation.folders import RepertoireFolder
 from qdsega.errors import ConfigError
+from qdsega.folder_names import default_folder
 
 NAME = "repertoire"
 HELP = (
@@ -18,9 +21,9 @@ HELP = (
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "formation",
-        metavar="FORMATION|RUN",
+        metavar="FORMATION|RUN|REPERTOIRE",
         help="a file or a shipped name, or a finished run folder: its body and world, its "
-        "verified gaits played first",
+        "verified gaits played first; or a repertoire folder, with --export (nothing built)",
     )
     parser.add_argument(
         "--world", metavar="WORLD", help="a file or a shipped name; default flat (or the run's)"
@@ -37,17 +40,30 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     )
     cells = ", ".join(f"{fill} {c}" for fill, (_, c) in FILLS.items())
     parser.add_argument("--cells", type=int, metavar="C", help=f"archive cells ({cells})")
-    parser.add_argument("--seed", type=int, default=0, metavar="S")
-    parser.add_argument("--workers", type=int, default=2, metavar="N", help="processes")
-    parser.add_argument("--out", type=Path, metavar="DIR", help="default runs/repertoire-NAME")
+    parser.add_argument("--seed", type=int, metavar="S", help="default 0")
+    parser.add_argument("--workers", type=int, metavar="N", help="processes (default 2)")
+    parser.add_argument(
+        "--out", type=Path, metavar="DIR", help="default runs/repertoire-NAME[-WORLD]"
+    )
+    parser.add_argument(
+        "--export",
+        action="store_true",
+        help=f"also write the elites as DIR/{RepertoireFolder(Path()).elites.name}, one row "
+        "each (gait, descriptor, distance, cell)",
+    )
+
+
+BUILD_OPTIONS = ("world", "fill", "evaluations", "cells", "seed", "workers", "out")
+"""The options that say how a repertoire is built, refused with a repertoire folder."""
 
 
 def run(args: argparse.Namespace) -> int:
     # Imported here: it starts PyBullet, which the other commands need not load.
-    from qdsega.adaptation.folders import RepertoireFolder
     from qdsega.adaptation.repertoire import (
         RepertoireSettings,
+        archive_summary,
         build_repertoire,
+        export_repertoire,
         load_repertoire,
         run_gaits,
     )
@@ -62,15 +78,27 @@ def run(args: argparse.Namespace) -> int:
     from qdsega.training.config import resolve_config
     from qdsega.training.finished_run import FinishedRun
 
-    if args.workers < 1:
-        raise ConfigError(f"--workers must be at least 1, got {args.workers}")
-    run_folder = Path(args.formation)
-    if run_folder.is_dir():  # a run: its body, world and rules, its gaits played first
+    source = Path(args.formation)
+    if RepertoireFolder(source).record.is_file():  # an existing repertoire: export it only
+        if not args.export:
+            raise ConfigError(f"{source} holds a repertoire: add --export to write its elites")
+        given = [f"--{name}" for name in BUILD_OPTIONS if getattr(args, name) is not None]
+        if given:
+            raise ConfigError(f"{', '.join(given)}: a repertoire folder is exported as it is")
+        archive, record = export_repertoire(source)
+        elites = RepertoireFolder(source).elites
+        summary = archive_summary(archive)
+        print(f"{_summary(record['formation'], summary, len(archive.centroids))} -> {elites}")
+        return 0
+    workers = 2 if args.workers is None else args.workers
+    if workers < 1:
+        raise ConfigError(f"--workers must be at least 1, got {workers}")
+    if source.is_dir():  # a run: its body, world and rules, its gaits played first
         if args.world is not None:
             raise ConfigError("--world: a run's repertoire is built in the run's world")
-        finished = FinishedRun.open(run_folder)
+        finished = FinishedRun.open(source)
         config, formation, world = finished.config, finished.formation, finished.world
-        seeds, seeded_from = run_gaits(finished), run_folder
+        seeds, seeded_from = run_gaits(finished), source
     else:
         world = World() if args.world is None else named_world(args.world)
         formation = world.lights(load_formation(resolve_formation(args.formation)))
@@ -83,30 +111,38 @@ def run(args: argparse.Namespace) -> int:
             fill=fill,
             evaluations=evaluations if args.evaluations is None else args.evaluations,
             cells=cells if args.cells is None else args.cells,
-            seed=args.seed,
+            seed=0 if args.seed is None else args.seed,
         )
     except ValueError as exc:
         raise ConfigError(f"--{exc}") from None
-    out = args.out or Path("runs") / f"repertoire-{formation.name}"
+    out = args.out or default_folder(formation.name, command="repertoire", world=world.file)
     build_repertoire(
         formation,
         out,
         rules=config.rules(world),
         settings=settings,
-        workers=args.workers,
+        workers=workers,
         seeds=seeds,
         seeded_from=seeded_from,
         progress=ProgressLine,
     )
-    archive, record = load_repertoire(out)
+    archive, record = export_repertoire(out) if args.export else load_repertoire(out)
     if len(archive.filled):
         archive_map(archive, record, RepertoireFolder(out).archive_map)
-    best = "none walked" if record["best_m"] is None else f"best {record['best_m']:.4f} m"
     played = f"{record['evaluations_done']} gaits played"
     if fill == "msm":
         played = f"{settings.evaluations} gaits played in the MSM, {played} in exact physics,"
-    print(
-        f"{formation.name}: {record['filled']} cells of {settings.cells} filled "
-        f"({record['coverage']:.0%}), {best}, {played} in {record['wall_s']:.1f} s -> {out}"
-    )
+    head = _summary(formation.name, archive_summary(archive), len(archive.centroids))
+    print(f"{head}, {played} in {record['wall_s']:.1f} s -> {out}")
     return 0
+
+
+def _summary(formation: str, summary: dict[str, Any], cells: int) -> str:
+    """How a repertoire's line begins: cells filled, coverage, best and QD-score (its
+    archive's summary)."""
+    best = "none walked" if summary["best_m"] is None else f"best {summary['best_m']:.4f} m"
+    return (
+        f"{formation}: {summary['filled']} cells of {cells} filled "
+        f"({summary['coverage']:.0%}), {best}, QD-score {summary['qd_score']:.2f} "
+        f"(offset {summary['qd_offset_m']:g} m)"
+    )

@@ -11,8 +11,8 @@ from qdsega.sweep import SweepRun, read_grid, run_sweep
 
 NAME = "sweep"
 HELP = (
-    "train and evaluate formations x seeds x presets x configs from GRID.yaml, each into its own "
-    "run folder; write OUT/sweep.csv and OUT/sweep.md (re-running resumes)"
+    "train and evaluate formations x worlds x seeds x presets x configs from GRID.yaml, each "
+    "into its own run folder; write OUT/sweep.csv and OUT/sweep.md (re-running resumes)"
 )
 
 

@@ -15,6 +15,7 @@ from qdsega.description import (
     resolve_formation,
 )
 from qdsega.errors import ConfigError
+from qdsega.folder_names import default_folder
 from qdsega.training.config import SIMULATORS, TrainingConfig, resolve_config
 from qdsega.training.progress import ProgressDisplay
 from qdsega.training.run import (
@@ -24,10 +25,10 @@ from qdsega.training.run import (
     resume,
     train,
 )
+from qdsega.training.run_folder import RunFolder
 
 NAME = "train"
 HELP = "learn locomotion with QDSEGA and write a run folder (or continue one with --resume)"
-RUNS_DIR = Path("runs")
 """Where run folders go when --out is not given."""
 _RUN_OPTIONS = (
     "sim", "workers", "ray", "preset", "config", "seed", "out", "overwrite", "generations",
@@ -42,7 +43,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "--resume",
         type=Path,
         metavar="RUN",
-        help="continue a stopped run from its last finished generation (no other options)",
+        help="continue a stopped run from its last finished generation (no other options); "
+        "of a finished run, print its result and succeed",
     )
     parser.add_argument(
         "--sim",
@@ -59,7 +61,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "--ray",
         metavar="local|ADDRESS",
         help="the workers are Ray actors: local starts Ray on this machine, an address joins a "
-        "cluster (pip install 'qdsega[ray]'); the run learns the same",
+        "cluster (pip install -e '.[ray]' in the checkout); the run learns the same",
     )
     parser.add_argument(
         "--preset",
@@ -121,6 +123,10 @@ def run(args: argparse.Namespace) -> int:
             extra = ", ".join(([str(args.formation)] if args.formation else []) + given)
             raise ConfigError(f"--resume continues a run as it was configured; drop {extra}")
         out = args.resume
+        folder = RunFolder(out)
+        if folder.finished:  # nothing to resume: a script resuming whatever it finds goes on
+            print(result_line(folder.read_summary(), out, finished=True))
+            return 0
         start = partial(resume, out, progress=progress)
     else:
         if args.formation is None:
@@ -134,9 +140,12 @@ def run(args: argparse.Namespace) -> int:
 
             connect(config.ray, cpus=config.workers)
         world = None if args.world is None else named_world(args.world)
-        place = "" if world is None else f"-{world.name}"
-        name = f"{args.formation.stem}{place}-{config.sim}-seed{config.seed}"
-        out = args.out or RUNS_DIR / name
+        out = args.out or default_folder(
+            args.formation.stem,
+            world=None if world is None else world.file,
+            settings=[config.sim],
+            seed=config.seed,
+        )
         if args.allow_unmatched and args.warm_start is None:
             raise ConfigError("--allow-unmatched goes with --warm-start RUN")
         warm_start = args.warm_start
@@ -164,20 +173,27 @@ def run(args: argparse.Namespace) -> int:
     finally:
         if progress is not None:
             progress.close()
+    print(result_line(summary, out))
+    warning = prediction_warning(summary)
+    if warning is not None:
+        print(f"qdsega train: {warning}")
+    return 0
+
+
+def result_line(summary: dict[str, Any], out: Path, *, finished: bool = False) -> str:
+    """The line that names a run's result, ending ``-> RUN``; ``finished``: said of a run that
+    ``--resume`` found already finished."""
     facts = f"{summary['distance_m']:.4f} m"
     if summary["sim"] == "memo":
         facts += f" with exact physics (the table predicted {summary['greedy_distance']:.4f} m)"
     if summary["optimum"] is not None:
         facts += f", optimum {summary['optimum']:.4f} m ({summary['greedy_over_optimum']:.3f})"
-    print(
-        f"{summary['formation']}: greedy policy of generation {summary['result_generation']} "
-        f"{facts}, {summary['env_steps']} steps in "
+    done = "the run is already finished, nothing to resume; its result: " if finished else ""
+    return (
+        f"{summary['formation']}: {done}greedy policy of generation "
+        f"{summary['result_generation']} {facts}, {summary['env_steps']} steps in "
         f"{summary['wall_s']:.1f} s -> {out}"
     )
-    warning = prediction_warning(summary)
-    if warning is not None:
-        print(f"qdsega train: {warning}")
-    return 0
 
 
 def prediction_warning(summary: dict[str, Any]) -> str | None:

@@ -13,6 +13,7 @@ from qdsega.description.shipped import (
     resolve_formation,
     resolve_world,
     shipped_formation_names,
+    shipped_unit_names,
     shipped_world_names,
 )
 from qdsega.description.unit_type import Connector, JointSpec, UnitType, load_unit_type
@@ -36,5 +37,6 @@ __all__ = [
     "resolve_formation",
     "resolve_world",
     "shipped_formation_names",
+    "shipped_unit_names",
     "shipped_world_names",
 ]

@@ -37,6 +37,11 @@ def shipped_world_names() -> list[str]:
     return _names(WORLDS_DIR)
 
 
+def shipped_unit_names() -> list[str]:
+    """Names of the shipped unit types, sorted (``hub``, ``servo``)."""
+    return sorted(file.parent.name for file in UNITS_DIR.glob("*/unit.yaml"))
+
+
 def resolve_formation(argument: str | Path) -> Path:
     """The formation file a command-line argument means.
 

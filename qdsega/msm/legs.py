@@ -11,6 +11,8 @@ from qdsega.errors import FormationError
 
 LEG_STATES = (1, 2, 3, 4)
 """The paper's leg states (section 4.1.2): 1 forward+down, 2 back+down, 3 forward+up, 4 back+up."""
+LEG_STATE_NAMES = {1: "forward, down", 2: "back, down", 3: "forward, up", 4: "back, up"}
+"""What each leg state means, for figures."""
 
 
 @dataclass(frozen=True)

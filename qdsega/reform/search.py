@@ -161,9 +161,10 @@ def reform(
     from qdsega.assembly import assemble  # trimesh and PyBullet: only once the input is read
     from qdsega.simulation.reach import check_reach
 
-    check_reach(assemble(formation))
+    check_reach(assemble(formation), allow_blocked=settings.allow_blocked)
     first = [current, *candidates.first_round()]
-    problems = {c.name: _problem(c, formation, world) for c in first}
+    allow_blocked = settings.allow_blocked
+    problems = {c.name: _problem(c, formation, world, allow_blocked=allow_blocked) for c in first}
     if all(problems.values()):
         raise ConfigError(f"no candidate can move ({current.name}: {problems[current.name]})")
     folder = ReformFolder(out)
@@ -236,7 +237,8 @@ class Search:
             if problems is not None:
                 reason = problems[candidate.name]
             else:
-                reason = _problem(candidate, self.formation, self.world)
+                allowed = self.settings.allow_blocked
+                reason = _problem(candidate, self.formation, self.world, allow_blocked=allowed)
             if reason is None:
                 _write(candidate, self.formation, self.folder)
                 ready.append(candidate)
@@ -395,9 +397,12 @@ def _body(candidate: Candidate, original: Formation) -> Formation:
     return candidate.arrangement.formation(name, f"{original.name} re-formed: {candidate.how}")
 
 
-def _problem(candidate: Candidate, original: Formation, world: World) -> str | None:
-    """Why the candidate cannot move, checked as ``assemble`` and ``train`` would check it;
-    None where nothing is wrong."""
+def _problem(
+    candidate: Candidate, original: Formation, world: World, *, allow_blocked: bool
+) -> str | None:
+    """Why the candidate cannot move, checked as ``assemble`` and ``train`` would check it
+    (levels a joint cannot reach only without ``allow_blocked``: the user was warned of the
+    body as it is); None where nothing is wrong."""
     from qdsega.assembly import assemble  # trimesh and PyBullet: only where bodies are checked
     from qdsega.simulation.reach import check_reach
     from qdsega.training.sims import check_sim
@@ -406,7 +411,8 @@ def _problem(candidate: Candidate, original: Formation, world: World) -> str | N
     if not body.joints:
         return "no working joint"
     try:
-        check_reach(assemble(body))
+        if not allow_blocked:
+            check_reach(assemble(body))
         config = resolve_config(overrides={"sim": "memo"}, formation=body)
         check_sim(world.lights(body), config, world)
     except QdsegaError as exc:
@@ -470,7 +476,10 @@ def _claim(folder: ReformFolder, inputs: dict[str, Any]) -> None:
     own = Path(inputs["formation_file"])
     if record.is_file():
         previous = json.loads(record.read_text(encoding="utf-8"))
-        if previous.get("inputs") != inputs:
+        earlier = previous.get("inputs", {})
+        if "settings" in earlier:  # a reform begun before a setting existed had its default
+            earlier["settings"] = {**asdict(ReformSettings()), **earlier["settings"]}
+        if earlier != inputs:
             message = (
                 "holds another reform (other body, world, spares or settings); choose another --out"
             )

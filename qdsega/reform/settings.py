@@ -11,7 +11,7 @@ from qdsega.training.config import SCREENING_GENERATIONS
 
 @dataclass(frozen=True, kw_only=True)
 class ReformSettings:
-    """How hard a reform looks.
+    """How hard a reform looks, and whether it lets blocked levels through.
 
     Attributes:
         seed: every run's seed.
@@ -21,6 +21,9 @@ class ReformSettings:
         top: candidates learnt to the end besides the body as it is.
         reference_trials: the CMA-ES reference search of each learnt run's evaluation
             (``qdsega evaluate --reference-trials``; 0: the classic gaits only).
+        allow_blocked: a body with a level a joint cannot reach without hitting itself goes
+            on, the body as it is with a warning, instead of being refused or dropped
+            (:func:`qdsega.simulation.reach.check_reach`).
     """
 
     seed: int = 0
@@ -29,6 +32,7 @@ class ReformSettings:
     widen: int = 2
     top: int = 3
     reference_trials: int = 0
+    allow_blocked: bool = False
 
     def __post_init__(self) -> None:
         for name in ("screen", "rounds", "widen", "top"):

@@ -45,7 +45,8 @@ class BulletSimulation:
         robot: the assembled formation.
         settings: engine parameters.
         egl: load pybullet's EGL plugin for off-screen OpenGL camera images (it must be loaded
-            before any body); see :attr:`egl_enabled` for whether it loaded.
+            before any body); see :attr:`egl_enabled` for whether it loaded. Either way the
+            world is then built for pictures (rough ground shows its relief).
         world: the ground and what stands on it (:mod:`qdsega.simulation.terrain`); None for
             the flat plane.
     """
@@ -68,7 +69,7 @@ class BulletSimulation:
             _EGL_OPEN.add(self)
         self._configure_engine()
         self.world = world or World()
-        self.terrain = build_terrain(self.client, pybullet, self.world, PLANE_URDF)
+        self.terrain = build_terrain(self.client, pybullet, self.world, PLANE_URDF, pictures=egl)
         flags = pybullet.URDF_USE_INERTIA_FROM_FILE
         if self.settings.self_collision:
             flags |= pybullet.URDF_USE_SELF_COLLISION | (
@@ -308,6 +309,12 @@ class BulletSimulation:
             baseVisualShapeIndex=shape,
             basePosition=(xy_m[0], xy_m[1], base + radius_m),
         )
+
+    def tint(self, units: Sequence[str], rgba: Sequence[float]) -> None:
+        """Colour the named units (red, green, blue, alpha in 0..1), for a picture that points
+        them out; the physics is untouched."""
+        for unit in units:
+            self.client.changeVisualShape(self.body_id, self.link_index[unit], rgbaColor=rgba)
 
     def camera_image(
         self,

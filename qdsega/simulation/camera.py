@@ -7,6 +7,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
+WIDTH_PX = 640
+HEIGHT_PX = 480
+"""The size of a picture unless asked otherwise (px): videos, ``match``'s stills, the gallery."""
 LIGHT_RADIUS_FRACTION = 0.02
 """The light's sphere has this fraction of its distance as radius (at least 0.1 m), so that it
 shows on the horizon."""
@@ -38,8 +41,8 @@ class CameraConfig:
         fov_deg: vertical field of view (deg).
     """
 
-    width: int = 640
-    height: int = 480
+    width: int = WIDTH_PX
+    height: int = HEIGHT_PX
     fps: int = 20
     distance_m: float | None = None
     pitch_deg: float = 25.0

@@ -21,10 +21,11 @@ Cost: about 0.1 ms a checked angle; 20 to 40 ms for a shipped formation, 0.3 s f
 from __future__ import annotations
 
 import math
+import warnings
 from dataclasses import dataclass
 
 from qdsega.assembly import AssembledRobot
-from qdsega.errors import FormationError
+from qdsega.errors import FormationError, QdsegaWarning
 from qdsega.simulation.bullet import BulletSimulation
 from qdsega.simulation.settings import PhysicsSettings
 
@@ -112,8 +113,10 @@ def unreachable_levels(
     return blocked
 
 
-def check_reach(robot: AssembledRobot) -> None:
-    """Refuse a body with a level that a joint cannot reach (:func:`unreachable_levels`).
+def check_reach(robot: AssembledRobot, *, allow_blocked: bool = False) -> None:
+    """Refuse a body with a level that a joint cannot reach (:func:`unreachable_levels`); with
+    ``allow_blocked``, say the same in a :class:`QdsegaWarning` and let the body go on (the
+    user knows: say, legs that touch at one swing level).
 
     Raises:
         FormationError: the first blocked level, at the line of the unit whose joint it is,
@@ -126,7 +129,18 @@ def check_reach(robot: AssembledRobot) -> None:
     unit = next(u for u in formation.units if u.joint_name == blocked[0].joint)
     others = len(blocked) - 1
     more = f" ({others} more level{'s' * (others > 1)} blocked)" if others else ""
-    raise FormationError(f"{blocked[0]}{more}", file=formation.file, line=unit.line)
+    error = FormationError(f"{blocked[0]}{more}", file=formation.file, line=unit.line)
+    if not allow_blocked:
+        raise FormationError(
+            f"{blocked[0]}{more} (--allow-blocked goes on regardless)",
+            file=formation.file,
+            line=unit.line,
+        )
+    warnings.warn(
+        f"{error}; going on (--allow-blocked): a command the units stop fails as a missed level",
+        QdsegaWarning,
+        stacklevel=2,
+    )
 
 
 def _deepest_overlap(

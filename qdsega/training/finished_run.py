@@ -62,6 +62,11 @@ class FinishedRun:
         (:func:`load_run_formation`)."""
         return load_run_formation(self.path, self.config)
 
+    def formation_in(self, world: World) -> Formation:
+        """Its formation, from its copy, lit as its configuration says in another ``world``
+        (:func:`load_run_formation`)."""
+        return load_run_formation(self.path, self.config, world=world)
+
     @cached_property
     def world(self) -> World:
         """Its world, from its copy; the flat plane where it has none (:func:`load_run_world`)."""

@@ -131,10 +131,13 @@ class FormationSnapshot:
             partial.write_text(json.dumps(asdict(self.record), indent=2) + "\n", encoding="utf-8")
 
 
-def load_run_formation(run: Path, config: TrainingConfig) -> Formation:
-    """The formation of run folder ``run``, from its copy, with the light where ``config``
-    puts it. Warns (:class:`~qdsega.errors.QdsegaWarning`) when the original files have
-    changed since the run copied them.
+def load_run_formation(
+    run: Path, config: TrainingConfig, *, world: World | None = None
+) -> Formation:
+    """The formation of run folder ``run``, from its copy, with the light of ``world`` (None:
+    the run's own), moved where ``config`` puts it. Warns
+    (:class:`~qdsega.errors.QdsegaWarning`) when the original files have changed since the
+    run copied them.
 
     Raises:
         RunFolderError: no copy, or one that does not match its hashes.
@@ -158,7 +161,8 @@ def load_run_formation(run: Path, config: TrainingConfig) -> Formation:
                 stacklevel=2,
             )
     formation = load_formation(copy / record.formation, units_dir=copy / record.units_dir)
-    return config.with_light(load_run_world(run).lights(formation))
+    place = load_run_world(run) if world is None else world
+    return config.with_light(place.lights(formation))
 
 
 def copy_world(world: World, run: Path) -> None:

@@ -84,9 +84,15 @@ class RunFolder:
     def finished(self) -> bool:
         return (self.path / self.SUMMARY).is_file()
 
-    def evaluation_on(self, formation_name: str) -> Path:
-        """Where ``evaluate --formation`` writes the policy's trial on another body."""
-        return self.path / f"evaluation-on-{formation_name}.json"
+    def evaluation_file(self, *, formation: str | None = None, world: str | None = None) -> Path:
+        """Where ``evaluate`` writes: :attr:`EVALUATION`; the policy's trial on another body
+        (``--formation``) ``evaluation-on-FORMATION.json``; judged in another world
+        (``--world``) ``evaluation-in-WORLD.json``; both, ``evaluation-on-FORMATION-in-WORLD``."""
+        if formation is None and world is None:
+            return self.path / self.EVALUATION
+        on = "" if formation is None else f"-on-{formation}"
+        place = "" if world is None else f"-in-{world}"
+        return self.path / f"evaluation{on}{place}.json"
 
     def require_finished(self, *names: str) -> None:
         """Check that the folder holds a summary and every file in ``names``.

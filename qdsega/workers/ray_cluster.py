@@ -7,9 +7,9 @@ in the order the work was given, so what a pool computes does not depend on Ray.
 ``local`` starts a Ray instance on this machine for this process (stopped when it ends); any
 other value is passed to ``ray.init(address=...)`` to join a running cluster (``auto``,
 ``HOST:PORT`` or ``ray://HOST:PORT``), whose nodes need the same qdsega installed. Ray is an
-optional extra: ``pip install 'qdsega[ray]'``. A local instance runs its workers at normal
-priority (Ray's default, niceness 15, let any other load on this machine slow them down 5x,
-measured here), unless ``RAY_worker_niceness`` is set.
+optional extra (``pip install -e '.[ray]'`` in the checkout). A local instance runs its workers
+at normal priority (Ray's default, niceness 15, let any other load on this machine slow them
+down 5x, measured here), unless ``RAY_worker_niceness`` is set.
 """
 
 from __future__ import annotations
@@ -35,7 +35,7 @@ def connect(address: str, *, cpus: int = 0) -> Any:
     try:
         import ray
     except ImportError:
-        raise WorkerError("--ray needs Ray: pip install 'qdsega[ray]'") from None
+        raise WorkerError("--ray needs Ray: pip install -e '.[ray]' in the checkout") from None
     if not ray.is_initialized():
         options: dict[str, Any] = {"include_dashboard": False, "logging_level": logging.ERROR}
         if address == LOCAL:

@@ -2,6 +2,7 @@
 the same archive, and so does a build stopped and continued; bad input is one line, exit 2,
 nothing written."""
 
+import csv
 import json
 import shutil
 import signal
@@ -135,16 +136,38 @@ def test_another_body_or_a_corrupt_archive_is_refused_in_one_line(tmp_path):
     assert {p: p.read_bytes() for p in old.rglob("*") if p.is_file()} == kept
 
 
-def test_a_run_seeds_the_repertoire_with_its_verified_gaits(tiny_run, tmp_path):
+def test_a_run_seeds_the_repertoire_with_its_verified_gaits_and_export_writes_its_elites(
+    tiny_run, tmp_path
+):
     out = tmp_path / "rep"
     result = run_cli("repertoire", tiny_run, "--evaluations", "3", "--cells", "4",
-                     "--workers", "1", "--out", out)  # fmt: skip
+                     "--workers", "1", "--out", out, "--export")  # fmt: skip
     assert result.returncode == 0, result.stderr
     record = json.loads((out / "repertoire.json").read_text())
     assert record["formation"] == "snake5" and record["trial_steps"] == 4  # the run's rules
     assert record["seeds"]["run"] == str(tiny_run.resolve()) and record["seeds"]["gaits"] >= 1
     summary = json.loads((tiny_run / "summary.json").read_text())
     assert record["best_m"] >= summary["distance_m"] - 1e-9  # its verified gait, played again
+    archive, _ = load_repertoire(out)
+    assert record["qd_score"] == archive.qd_score and record["qd_offset_m"] == -10.0
+    assert f"QD-score {record['qd_score']:.2f} (offset -10 m)" in result.stdout
+    with (out / "elites.csv").open(newline="") as stream:
+        rows = list(csv.DictReader(stream))
+    assert len(rows) == record["filled"] >= 1
+    assert [float(r["distance_m"]) for r in rows] == sorted(archive.fitness[archive.filled])[::-1]
+    assert {"descriptor_turn", "descriptor_drift"} <= set(rows[0])  # snake5: no legs
     again = run_cli("repertoire", tiny_run, "--world", "ice", "--out", tmp_path / "other")
     assert again.returncode == 2 and "the run's world" in again.stderr
     assert not (tmp_path / "other").exists()
+
+    (out / "elites.csv").unlink()  # exported again from the folder, nothing built
+    built = {p: p.read_bytes() for p in out.rglob("*.npz")}
+    exported = run_cli("repertoire", out, "--export")
+    assert exported.returncode == 0, exported.stderr
+    assert f"{out / 'elites.csv'}" in exported.stdout and "QD-score" in exported.stdout
+    with (out / "elites.csv").open(newline="") as stream:
+        assert list(csv.DictReader(stream)) == rows
+    assert {p: p.read_bytes() for p in out.rglob("*.npz")} == built
+    for args in ((), ("--export", "--cells", "8")):
+        refused = run_cli("repertoire", out, *args)
+        assert refused.returncode == 2 and len(refused.stderr.splitlines()) == 1, args

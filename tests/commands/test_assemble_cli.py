@@ -88,6 +88,15 @@ def test_yaml_syntax_error(project):
     assert "robot.yaml:" in message
 
 
+def test_a_nul_character_is_one_line_with_the_file_and_its_line(project):
+    text = GOOD.replace("head, unit: my_servo}", "he\x00ad, unit: my_servo}")
+    message = _assert_rejected(
+        project, text, "unacceptable character #x0000", line=5, subprocess=True
+    )
+    assert message.startswith(f"qdsega assemble: error: {project / 'assemblies' / 'robot.yaml'}:5:")
+    assert "<unicode string>" not in message
+
+
 def test_empty_file(project):
     _assert_rejected(project, "# nothing here\n", "file is empty")
 

@@ -79,6 +79,13 @@ def test_a_killed_reform_keeps_what_it_finished_and_ends_with_everything(
     assert f"-> {out}/reform.md" in result.stdout
 
 
+BLOCKED = BIPED.replace(
+    "connector: left, side: left}",
+    "connector: left, side: left,\n     overrides: {swing: {levels_deg: [-15, 90]}}}",
+)
+"""The biped with a swing level that hits the hub."""
+
+
 def test_bad_input_is_one_line_and_writes_nothing(biped: tuple[Path, Path], tmp_path: Path):
     body, _ = biped
     locked = tmp_path / "locked.yaml"  # every joint locked: nothing can move
@@ -87,13 +94,8 @@ def test_bad_input_is_one_line_and_writes_nothing(biped: tuple[Path, Path], tmp_
         .replace("levels_deg: [-35, 5]}", "locked_deg: 0}")
         .replace("overrides: {swing: {levels_deg: [15, -15]}}", "")
     )
-    blocked = tmp_path / "blocked.yaml"  # a swing level that hits the hub
-    blocked.write_text(
-        BIPED.replace(
-            "connector: left, side: left}",
-            "connector: left, side: left,\n     overrides: {swing: {levels_deg: [-15, 90]}}}",
-        )
-    )
+    blocked = tmp_path / "blocked.yaml"
+    blocked.write_text(BLOCKED)
     cases = {
         "--spare gripper: unknown unit type 'gripper'": ("--spare", "gripper=1"),
         "--spare 'servo': expected TYPE=N": ("--spare", "servo"),
@@ -110,3 +112,22 @@ def test_bad_input_is_one_line_and_writes_nothing(biped: tuple[Path, Path], tmp_
         assert result.returncode == 2, (message, result.stderr)
         assert result.stderr.count("\n") == 1 and message in result.stderr, result.stderr
         assert not out.exists(), message
+
+
+def test_allow_blocked_goes_on_with_the_body_as_it_is(biped: tuple[Path, Path], tmp_path: Path):
+    """The refusal is a warning and the body as it is is screened (stopped once it is)."""
+    _, config = biped
+    blocked = tmp_path / "blocked.yaml"
+    blocked.write_text(BLOCKED)
+    out = tmp_path / "reform"
+    process = start_cli(
+        "reform", blocked, "--config", config, "--screen", "1", "--rounds", "1", "--top", "1",
+        "--allow-blocked", "--out", out,
+    )  # fmt: skip
+    stop_when(process, (out / "runs" / "c00").is_dir, signal.SIGKILL)
+    _, err = process.communicate()
+    (warning,) = [line for line in err.splitlines() if ": warning: " in line]
+    assert warning.startswith(f"qdsega reform: warning: {blocked}:")
+    assert "cannot reach level 1 (90 deg): unit L1_lift hits unit body1" in warning
+    assert (out / "candidates" / "c00.yaml").is_file()
+    assert json.loads((out / "reform.json").read_text())["inputs"]["settings"]["allow_blocked"]

@@ -4,6 +4,8 @@ import imageio.v3 as iio
 import numpy as np
 from helpers import run_cli
 
+from qdsega.analysis.video import GIF_COLOURS
+
 SNAKE = "assemblies/snake5.yaml"
 
 
@@ -56,9 +58,11 @@ def test_gif_on_request_of_a_shipped_formation_by_name(tmp_path):
         "48",
     )
     assert result.returncode == 0, result.stderr
-    frames = iio.imread(out)
+    frames = iio.imread(out)[..., :3]
     # 7 frames are filmed; GIF writers merge identical neighbours (the snake at rest)
     assert 2 <= len(frames) <= 7 and frames.shape[1:] == (48, 64, 3)
+    colours = np.unique(frames.reshape(-1, 3), axis=0)
+    assert 8 <= len(colours) <= GIF_COLOURS  # one palette for every frame
 
 
 def test_bad_input_is_one_line_and_leaves_no_file(tmp_path):

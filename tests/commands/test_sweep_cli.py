@@ -71,7 +71,7 @@ def test_a_rerun_keeps_finished_runs_and_resumes_unfinished_ones(local_sweep):
 
 
 def test_ray_local_gives_the_same_table(local_sweep, tmp_path):
-    pytest.importorskip("ray", reason="Ray is an optional extra: pip install 'qdsega[ray]'")
+    pytest.importorskip("ray", reason="Ray is an optional extra: pip install -e '.[ray]'")
     folder, _ = local_sweep
     out = tmp_path / "out"
     result = run_cli(

@@ -11,6 +11,7 @@ import pytest
 import yaml
 from helpers import TINY_TRAINING, run_cli
 
+from qdsega.cli import main
 from qdsega.commands.train import prediction_warning
 from qdsega.description.shipped import ASSEMBLIES_DIR
 
@@ -82,6 +83,43 @@ def test_a_body_that_cannot_move_says_why(project, tmp_path):
     summary = json.loads((run / "summary.json").read_text())
     assert summary["failed_commands_share"] == 1.0
     assert summary["most_common_failure"] == "trunk touched the ground"
+
+
+@pytest.mark.parametrize("option", ["FORMATION", "--config", "--world"])
+def test_a_nul_character_in_any_yaml_is_one_line_with_the_file_and_its_line(
+    option, tmp_path, capsys
+):
+    """Every YAML train reads (a formation, a config, a world) goes through the one reader."""
+    texts = {
+        "FORMATION": (ASSEMBLIES_DIR / "quadruped.yaml").read_text(),
+        "--config": "seed: 3\nworkers: 1\n",
+        "--world": "name: moon\nground: {friction: 0.5}\n",
+    }
+    first, second, *rest = texts[option].splitlines(keepends=True)
+    text = "".join([first, second[:3] + "\x00" + second[3:], *rest])  # in the second line
+    file = tmp_path / "bad.yaml"
+    file.write_text(text)
+    given = [str(file)] if option == "FORMATION" else ["quadruped", option, str(file)]
+    run = tmp_path / "run"
+    assert main(["train", *given, "--sim", "memo", "--out", str(run), "--quiet"]) == 2
+    (line,) = capsys.readouterr().err.splitlines()
+    assert line.startswith(f"qdsega train: error: {file}:2: YAML syntax error: ")
+    assert "unacceptable character #x0000" in line and not run.exists()
+
+
+def test_resuming_a_finished_run_succeeds_and_says_where_its_result_is(tmp_path, capsys):
+    run = tmp_path / "run"
+    args = ["--sim", "msm", "--generations", "1", "--trials", "200", "--out", str(run)]
+    assert main(["train", "quadruped", *args, "--quiet"]) == 0
+    (trained,) = capsys.readouterr().out.splitlines()
+    before = {p.name: p.stat().st_mtime_ns for p in run.iterdir()}
+    assert main(["train", "--resume", str(run)]) == 0
+    captured = capsys.readouterr()
+    (line,) = captured.out.splitlines()
+    prefix = "quadruped: the run is already finished, nothing to resume; its result: "
+    assert line == prefix + trained.removeprefix("quadruped: ") and captured.err == ""
+    assert line.endswith(f" -> {run}")
+    assert {p.name: p.stat().st_mtime_ns for p in run.iterdir()} == before  # untouched
 
 
 def test_a_memo_run_whose_table_missed_says_so():

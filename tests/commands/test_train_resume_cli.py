@@ -155,7 +155,7 @@ def test_ctrl_c_saves_and_resume_finishes(tmp_path):
     assert resumed.returncode == 0, resumed.stderr
     assert finished_generations(run) == 3 and (run / "summary.json").is_file()
     again = run_cli("train", "--resume", run)
-    assert again.returncode == 2 and "nothing to resume" in again.stderr
+    assert again.returncode == 0 and "already finished, nothing to resume" in again.stdout
 
 
 def test_an_existing_run_folder_is_never_overwritten(tmp_path):

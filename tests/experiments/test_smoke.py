@@ -2,7 +2,8 @@
 
 The scripts are measurements that take minutes to hours; these tests only check that each one
 still fits the package (imports, names, run folders), in a subprocess as a user runs it.
-``tools/random_formations.py`` has its own test (tests/assembly/test_random_formations.py).
+``tools/random_formations.py`` and ``tools/diagrams.py`` have their own tests
+(tests/assembly/test_random_formations.py, tests/experiments/test_diagrams.py).
 """
 
 from __future__ import annotations
@@ -78,7 +79,8 @@ def test_every_script_is_smoke_tested_and_has_a_usage_and_a_main():
         for folder in ("experiments", "tools")
         for p in (ROOT / folder).rglob("*.py")
     }
-    tested = {*HELP_ONLY, *TINY_RUNS, *ON_A_RUN, ON_A_REPERTOIRE, "tools/random_formations.py"}
+    own_tests = {"tools/random_formations.py", "tools/diagrams.py"}
+    tested = {*HELP_ONLY, *TINY_RUNS, *ON_A_RUN, ON_A_REPERTOIRE, *own_tests}
     assert scripts == tested
     for path in scripts:
         text = (ROOT / path).read_text(encoding="utf-8")

@@ -94,10 +94,13 @@ def test_stable_baselines3_env_checker_passes():
         env.close()
 
 
-def test_rendering_changes_nothing_in_the_physics():
+@pytest.mark.parametrize("world", [None, "rubble"])  # rubble: its relief is drawn for pictures
+def test_rendering_changes_nothing_in_the_physics(world):
     rollouts = []
     for render_mode in (None, "rgb_array"):
-        env = gym.make(ENV_ID, formation="snake5", render_mode=render_mode, camera=SMALL)
+        env = gym.make(
+            ENV_ID, formation="snake5", render_mode=render_mode, camera=SMALL, world=world
+        )
         env.action_space.seed(1)
         env.reset(seed=0)
         steps = [env.step(env.action_space.sample()) for _ in range(3)]

@@ -72,14 +72,18 @@ def test_a_leg_connector_turned_into_the_hub_is_caught(project: Path) -> None:
     assert {b.joint for b in blocked} <= {"L2_swing_joint", "L2_lift_joint", "R2_swing_joint"}
 
 
+ONE_LEG_WIDE = (
+    "  - {name: L1, template: leg, parent: body1, connector: left, side: left,\n"
+    "     overrides: {swing: {levels_deg: [-15, 45]}}}\n"
+    "  - {name: L2, template: leg, parent: body2, connector: left, side: left}\n"
+)
+"""Leg L1 swings back 45 deg, through leg L2: one blocked level."""
+
+
 def test_only_the_level_out_of_reach_is_blocked_and_where_it_hits(project: Path) -> None:
     """Leg L1 swung back 45 deg hits leg L2 on the way, at 30 deg; its other level is free."""
-    one_leg = (
-        "  - {name: L1, template: leg, parent: body1, connector: left, side: left,\n"
-        "     overrides: {swing: {levels_deg: [-15, 45]}}}\n"
-        "  - {name: L2, template: leg, parent: body2, connector: left, side: left}\n"
-    )
-    blocked = unreachable_levels(_robot(_quadruped(project, "wide", replace=(LEFT_LEGS, one_leg))))
+    wide = _quadruped(project, "wide", replace=(LEFT_LEGS, ONE_LEG_WIDE))
+    blocked = unreachable_levels(_robot(wide))
     (only,) = blocked
     assert (only.joint, only.level) == ("L1_swing_joint", 1)
     assert (only.unit, only.other) == ("L1_lift", "L2_lift")
@@ -109,3 +113,24 @@ def test_assemble_refuses_the_body_in_one_line_and_writes_nothing(
     )
     assert (out / "snake5.urdf").is_file()
     assert not (out / "quadruped_bad.urdf").exists()
+
+
+def test_allow_blocked_assembles_the_body_with_the_same_message_as_a_warning(
+    project: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """Neighbouring legs that overlap at one swing level: refused, or with --allow-blocked
+    assembled, the refusal's message a warning."""
+    file = _quadruped(project, "wide", replace=(LEFT_LEGS, ONE_LEG_WIDE))
+    out = project / "out.urdf"
+    assert main(["assemble", str(file), "-o", str(out)]) == 2
+    (refusal,) = capsys.readouterr().err.splitlines()
+    assert not out.exists()
+    assert main(["assemble", str(file), "-o", str(out), "--allow-blocked"]) == 0
+    captured = capsys.readouterr()
+    (warning,) = captured.err.splitlines()
+    message = refusal.removeprefix("qdsega assemble: error: ")
+    assert message.endswith(" (--allow-blocked goes on regardless)")
+    message = message.removesuffix(" (--allow-blocked goes on regardless)")
+    assert message.startswith(f"{file}:") and "cannot reach level 1 (45 deg)" in message
+    assert warning.startswith(f"qdsega assemble: warning: {message}; going on (--allow-blocked)")
+    assert out.is_file() and "wide" in captured.out

@@ -12,7 +12,7 @@ from qdsega.training.run_folder import RunFolder
 
 pytestmark = pytest.mark.slow  # end to end: make test-fast leaves it out
 
-ray = pytest.importorskip("ray", reason="Ray is an optional extra: pip install 'qdsega[ray]'")
+ray = pytest.importorskip("ray", reason="Ray is an optional extra: pip install -e '.[ray]'")
 
 
 @pytest.fixture(scope="module")
