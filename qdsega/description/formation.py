@@ -20,6 +20,11 @@ from qdsega.description.unit_type import JointSpec, UnitType
 Side = Literal["left", "right"]
 
 
+def joint_name_of(unit: str) -> str:
+    """URDF name of the joint that attaches the unit named ``unit`` to its parent."""
+    return f"{unit}_joint"
+
+
 @dataclass(frozen=True)
 class Friction:
     """Contact friction of a unit's link.
@@ -88,7 +93,7 @@ class PlacedUnit:
     @property
     def joint_name(self) -> str | None:
         """URDF name of the joint to the parent (active or fixed), None for the root."""
-        return None if self.parent is None else f"{self.name}_joint"
+        return None if self.parent is None else joint_name_of(self.name)
 
     @property
     def is_actuated(self) -> bool:

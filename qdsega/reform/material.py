@@ -14,6 +14,7 @@ from dataclasses import replace
 from pathlib import Path
 
 from qdsega.description import Formation, Leg, PlacedUnit
+from qdsega.description.formation import joint_name_of
 from qdsega.description.formation_reader import AXES
 from qdsega.description.shipped import UNITS_DIR
 from qdsega.description.unit_type import find_unit_type, load_unit_type
@@ -68,13 +69,12 @@ def material_of(formation: Formation, spares: dict[str, int]) -> Material:
                 connector=unit.connector if parent is not None else None,
                 line=None,
             )
-        joint_of = {u: units[c].joint_name for u, c in copies.items()}
         swing = next(u for u in model.units if units[u].joint_name == model.swing_joint)
         lift = next(u for u in model.units if units[u].joint_name == model.lift_joint)
         leg_units = tuple(copies[u] for u in model.units)
-        swing_joint, lift_joint = joint_of[swing], joint_of[lift]
-        assert swing_joint is not None and lift_joint is not None  # a leg's units have parents
-        legs.append(Leg(name, model.side, swing_joint, lift_joint, leg_units))
+        # the joints the copies have once attached (a spare leg's top hangs from nothing yet)
+        joints = joint_name_of(copies[swing]), joint_name_of(copies[lift])
+        legs.append(Leg(name, model.side, *joints, leg_units))
         number += 1
     for unit in loose:
         name = _free_name(f"spare_{unit.unit_type.name}", units)

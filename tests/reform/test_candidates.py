@@ -11,7 +11,9 @@ import pytest
 from helpers import BIPED
 
 from qdsega.description import load_formation, resolve_formation
+from qdsega.description.formation_writer import formation_yaml
 from qdsega.errors import ConfigError, FormationError
+from qdsega.msm.legs import LegLayout
 from qdsega.reform.arrangement import Move, Place
 from qdsega.reform.candidates import CHAIN, Candidates, moves_from, whole_shapes
 from qdsega.reform.design import first_body
@@ -117,6 +119,23 @@ def test_spares_make_a_leg_and_a_spare_unit():
     start = material.start()
     assert start.tops() == ("S1_swing", "spare_servo")
     assert "S1_swing: the spares -> body2.right" in [str(m) for m in moves_from(start)]
+
+
+def test_a_spare_leg_names_the_joints_it_has_once_attached(tmp_path):
+    # A spare leg's top hangs from nothing until a move attaches it: its leg used to name no
+    # swing joint, and the body with it attached failed to be written or laid out (KeyError).
+    material = material_of(load_formation(resolve_formation("quadruped_tripod")), {"servo": 2})
+    spare = material.legs[-1]
+    assert (spare.swing_joint, spare.lift_joint) == ("S1_swing_joint", "S1_lift_joint")
+    start = material.start()
+    move = next(m for m in moves_from(start) if str(m) == "S1_swing: the spares -> body2.right")
+    body = start.moved(move).formation("four_legs", "a spare leg on body2")
+    layout = LegLayout.from_formation(body, both_sides=False)
+    assert len(layout.swing) == 4
+    assert body.joints[layout.swing[-1]].name == "S1_swing_joint"
+    file = tmp_path / "four_legs.yaml"
+    file.write_text(formation_yaml(body, file), encoding="utf-8")
+    assert load_formation(file).legs[-1].swing_joint == "S1_swing_joint"
 
 
 def test_whole_shapes_of_the_hexapod_that_lost_a_leg():
