@@ -27,7 +27,7 @@ def _refused(write_formation, text: str) -> str:
     start = time.perf_counter()
     with pytest.raises(FormationError) as info:
         load_formation(file)
-    assert time.perf_counter() - start < 5.0
+    assert time.perf_counter() - start < 20.0  # the guarded cases took over 60 s
     return str(info.value)
 
 
@@ -44,7 +44,7 @@ def test_a_billion_levels_are_refused_at_once(project, write_formation, capsys):
     file = write_formation(text)
     start = time.perf_counter()
     assert main(["assemble", str(file), "-o", str(project / "out.urdf")]) == 2
-    assert time.perf_counter() - start < 5.0
+    assert time.perf_counter() - start < 20.0  # the guarded cases took over 60 s
     err = capsys.readouterr().err
     assert err.count("\n") == 1
     assert "robot.yaml:6: units[1].levels_deg.min: must be in [-360, 360], got -1000000000" in err
