@@ -62,7 +62,7 @@ def run_seed(formation_file: Path, overrides: dict[str, Any], show_gait: bool) -
     learner = QDSEGA(
         config=config.agent,
         levels=np.array([len(j.levels_rad) for j in formation.joints]),
-        world=model,
+        model=model,
         task=task,
         rng=np.random.default_rng(config.seed),
     )

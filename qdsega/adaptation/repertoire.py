@@ -9,7 +9,7 @@ would be a new settled start for the table, about a second of simulated time eac
 of them take about as long to simulate as the trial itself (30 commands of a fraction of a
 second each).
 
-The archive is filled in one of two worlds (``RepertoireSettings.fill``):
+The archive is filled in one of two simulators (``RepertoireSettings.fill``):
 
 * ``exact``: MAP-Elites in exact physics, each gait's descriptor measured in its trial
   (:class:`~qdsega.adaptation.descriptor.GaitDescriptor`); any body.
@@ -44,7 +44,7 @@ import numpy as np
 
 from qdsega.adaptation.archive import QD_OFFSET_M, Archive, cvt_centroids, grid_centroids
 from qdsega.adaptation.descriptor import GaitDescriptor
-from qdsega.adaptation.fills import FILLS
+from qdsega.adaptation.fills import FILLS, fill_name
 from qdsega.adaptation.folders import RepertoireFolder
 from qdsega.adaptation.map_elites import MapElites
 from qdsega.adaptation.msm_fill import DESCRIPTOR as MSM_DESCRIPTOR
@@ -71,8 +71,9 @@ class RepertoireSettings:
     """How a repertoire is built.
 
     Attributes:
-        fill: the world the archive is filled in, ``exact`` or ``msm`` (module docstring).
-        evaluations: gaits played in that world (-); an MSM fill then plays each elite in
+        fill: the simulator the archive is filled in, ``pybullet`` or ``msm`` (module
+            docstring; ``exact``, the name before 0.2.0, reads as ``pybullet``).
+        evaluations: gaits played in that simulator (-); an MSM fill then plays each elite in
             exact physics.
         cells: the archive's cells, about (a grid rounds to a whole number a side) (-).
         batch: gaits played between two saves (-).
@@ -81,15 +82,16 @@ class RepertoireSettings:
         seed: the seed of the CVT and of the search.
     """
 
-    fill: str = "exact"
-    evaluations: int = FILLS["exact"][0]
-    cells: int = FILLS["exact"][1]
+    fill: str = "pybullet"
+    evaluations: int = FILLS["pybullet"][0]
+    cells: int = FILLS["pybullet"][1]
     batch: int = 32
     initial: int = 200
     max_cycle: int = 6
     seed: int = 0
 
     def __post_init__(self) -> None:
+        object.__setattr__(self, "fill", fill_name(self.fill))
         if self.fill not in FILLS:
             raise ValueError(f"fill must be one of {', '.join(FILLS)}, got {self.fill!r}")
         for name in ("evaluations", "cells", "batch", "initial"):
@@ -271,7 +273,7 @@ def export_repertoire(folder: Path) -> tuple[Archive, dict[str, Any]]:
 def _describer(
     formation: Formation, settings: RepertoireSettings
 ) -> Callable[[np.ndarray, CycleTrial], np.ndarray]:
-    """How the build describes a gait from its exact trial: measured for an exact fill, the
+    """How the build describes a gait from its exact trial: measured for a PyBullet fill, the
     commands' duty factors (the cells the MSM filled) for an MSM fill."""
     if settings.fill == "msm":
         legs = LegLayout.from_formation(formation)
@@ -351,7 +353,9 @@ def _resume(
     theirs: dict[str, Any]
     mine, theirs = ({k: dict(r.get(k) or {}) if k == "settings" else r.get(k) for k in keys}
                     for r in (record, saved))  # fmt: skip
-    if settings.fill == "exact":  # an exact build may go on to a larger budget
+    if "fill" in theirs["settings"]:  # a record from before 0.2.0 may say "exact"
+        theirs["settings"]["fill"] = fill_name(theirs["settings"]["fill"])
+    if settings.fill == "pybullet":  # a PyBullet build may go on to a larger budget
         for both in (mine, theirs):
             both["settings"].pop("evaluations", None)
     if mine != theirs:

@@ -8,10 +8,10 @@ went through, and answers Dyna-style (the learner plans on a model that is corre
 policies actually go), the most specific knowledge first:
 
 0. where a walk from the start of a trial follows the commands of a remembered trial, that
-   trial's move (:class:`qdsega.agent.world.Paths`): physics is deterministic, so the same
+   trial's move (:class:`qdsega.agent.model.Paths`): physics is deterministic, so the same
    commands from the same start move the robot the same way, whatever other trials saw;
 1. the mean move of the latest trial that went ``i -> j`` entered from ``h`` (or at the start
-   of a trial: a context row of the table, :class:`qdsega.agent.world.Transitions`);
+   of a trial: a context row of the table, :class:`qdsega.agent.model.Transitions`);
 2. else the mean of the moves observed for ``i -> j`` in any context;
 3. else the base table's measurement, less the root-mean-square gap (m) between the base's
    forward moves and the observed ones (a lower confidence bound: among many unobserved
@@ -36,15 +36,15 @@ from dataclasses import replace
 
 import numpy as np
 
+from qdsega.agent.model import Paths, TransitionProvider, Transitions
 from qdsega.agent.policy import Rollout
-from qdsega.agent.world import Paths, TransitionProvider, Transitions
 from qdsega.task import relative_move
 
 _SUMS = 5  # dx (m), dy (m), dtheta (rad) (summed, or latest in context); moves; failures
 
 
 class GroundedTransitions:
-    """A :class:`qdsega.agent.world.TransitionProvider`: ``base`` corrected by observations.
+    """A :class:`qdsega.agent.model.TransitionProvider`: ``base`` corrected by observations.
 
     Args:
         base: the table of measured transitions.

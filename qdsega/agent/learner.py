@@ -26,18 +26,18 @@ from qdsega.agent.config import QDSEGAConfig
 from qdsega.agent.fitness import fitness
 from qdsega.agent.genetic import random_population, reproduce, roulette_weights, with_elite
 from qdsega.agent.imitation import imitate
+from qdsega.agent.model import StepModel, TransitionProvider, Transitions
 from qdsega.agent.policy import GreedyPolicy, Rollout, SequencePolicy, rollout
 from qdsega.agent.qlearning import learn_on_table
 from qdsega.agent.space import ExplorationSpace
-from qdsega.agent.table_world import TableWorld
-from qdsega.agent.world import TransitionProvider, Transitions, World
-from qdsega.agent.world_loop import learn_on_world
+from qdsega.agent.step_loop import learn_on_model
+from qdsega.agent.table_model import TableModel
 from qdsega.task import Task
 
 
 @dataclass(frozen=True)
 class Generation:
-    """What one generation learnt, and how its greedy policy walks in the learner's world.
+    """What one generation learnt, and how its greedy policy walks in the learner's model.
 
     Attributes:
         index: generation number, from 1.
@@ -48,7 +48,7 @@ class Generation:
         distances: distance toward the light covered by each trial (m), shape (trials,).
         fell: whether each trial ended in a fall, shape (trials,).
         steps: commands issued while learning.
-        greedy: the greedy policy's trial in the learner's world (for a table world: what the
+        greedy: the greedy policy's trial in the learner's model (for a table model: what the
             table predicts).
         wall_s: wall time of the generation (s).
     """
@@ -104,14 +104,14 @@ def elite_postures(path: np.ndarray, population: int) -> np.ndarray:
 
 
 class QDSEGA:
-    """The learner on a posture-transition world.
+    """The learner on a posture-transition model.
 
     Args:
         config: every hyperparameter.
         levels: level count of each gene character (actuated joint), shape (J,).
-        world: a transition table (learning runs compiled) or a step-by-step world such as
-            exact physics (the same algorithm in Python, :mod:`qdsega.agent.world_loop`).
-        task: the rules the learner is rewarded by (a step-by-step world applies them itself).
+        model: a transition table (learning runs compiled) or a step-by-step model such as
+            exact physics (the same algorithm in Python, :mod:`qdsega.agent.step_loop`).
+        task: the rules the learner is rewarded by (a step-by-step model applies them itself).
         rng: the only source of randomness.
     """
 
@@ -120,16 +120,16 @@ class QDSEGA:
         *,
         config: QDSEGAConfig,
         levels: np.ndarray,
-        world: TransitionProvider | World,
+        model: TransitionProvider | StepModel,
         task: Task,
         rng: np.random.Generator,
     ) -> None:
         levels = np.asarray(levels, dtype=np.int64)
-        if levels.shape != (world.n_joints,):
-            raise ValueError(f"levels must be ({world.n_joints},), got {levels.shape}")
+        if levels.shape != (model.n_joints,):
+            raise ValueError(f"levels must be ({model.n_joints},), got {levels.shape}")
         self.config = config
         self.levels = levels
-        self.world = world
+        self.model = model
         self.task = task
         self.rng = rng
         self.population = random_population(levels, config.genetic.population, rng)
@@ -160,14 +160,14 @@ class QDSEGA:
         return generation
 
     def verify(self, trial: Rollout) -> None:
-        """Tell the learner how a trial from its world's start posture walked when verified
+        """Tell the learner how a trial from its model's start posture walked when verified
         (with exact physics where it learns on a table): a generation's greedy policy, a local
         search's gait, a warm start's path. The best such trial so far is the elite: with
         ``genetic.elitism`` every later population that lost one of its postures gets it back
         (the most used first, at most half the population)."""
         if self._elite_m is not None and trial.distance_m <= self._elite_m:
             return
-        reached = trial.reached_postures(self.world.start_posture())[1:]
+        reached = trial.reached_postures(self.model.start_posture())[1:]
         self._elite = elite_postures(reached, self.config.genetic.population)
         self._elite_m = trial.distance_m
         self._elite_path = reached.copy()
@@ -176,7 +176,7 @@ class QDSEGA:
     def untried_path(self) -> np.ndarray | None:
         """The elite path a warm start handed on (:func:`qdsega.training.reconfiguration.
         warm_state`) while no trial on this body has been verified, shape (k, J); else None.
-        A world that can replay it with exact physics does so before the first generation
+        A model that can replay it with exact physics does so before the first generation
         (the training loop, :mod:`qdsega.training.run`)."""
         if self._elite_m is None and len(self._elite_path):
             return self._elite_path.copy()
@@ -186,7 +186,7 @@ class QDSEGA:
         self, generation: Generation, table: Transitions, rng: np.random.Generator
     ) -> GreedyPolicy:
         """The greedy policy of one more learning phase over ``generation``'s space, on
-        ``table`` (an optimistic view of the world, say), from its Q-table; ``rng`` draws the
+        ``table`` (an optimistic view of the model, say), from its Q-table; ``rng`` draws the
         roulette, so the learner's own generator and state are untouched."""
         q = generation.q.copy()
         uses = np.zeros(generation.space.n_actions, dtype=np.int64)
@@ -265,20 +265,20 @@ class QDSEGA:
         trials, fit = self.config.learning.trials, self.config.fitness
         if self.config.genetic.elitism:
             self.population = with_elite(self.population, self._elite)
-        space = ExplorationSpace.from_population(self.population, self.world.start_posture())
+        space = ExplorationSpace.from_population(self.population, self.model.start_posture())
         q = self._initial_q(space)
         uses = np.zeros(space.n_actions, dtype=np.int64)
         distances = np.zeros(trials)
         fell = np.zeros(trials, dtype=np.bool_)
-        if isinstance(self.world, World):
-            steps = self._learn_in_world(space, self.world, q, uses, distances, fell)
-            greedy_world: World = self.world
+        if isinstance(self.model, StepModel):
+            steps = self._learn_in_world(space, self.model, q, uses, distances, fell)
+            greedy_world: StepModel = self.model
         else:
-            table = self.world.transitions(space.postures, space.actions)
+            table = self.model.transitions(space.postures, space.actions)
             if self.config.learning.imitate_elite:
                 self._imitate_elite(space, table, q)
             steps = self._learn_on_table(space, table, q, uses, distances, fell, self.rng)
-            greedy_world = TableWorld(space=space, table=table, task=self.task)
+            greedy_world = TableModel(space=space, table=table, task=self.task)
         greedy = rollout(GreedyPolicy.of(space, q), greedy_world, steps=self.task.trial_steps)
         self._previous = (space, q)
         return Generation(
@@ -305,7 +305,7 @@ class QDSEGA:
             return
         walk = rollout(
             SequencePolicy(commands=path, space=space),
-            TableWorld(space=space, table=table, task=self.task),
+            TableModel(space=space, table=table, task=self.task),
             steps=min(len(path), self.task.trial_steps),
         )
         imitate(q, walk, space.next_interior, task=self.task, gamma=self.config.learning.gamma)
@@ -352,17 +352,17 @@ class QDSEGA:
     def _learn_in_world(
         self,
         space: ExplorationSpace,
-        world: World,
+        model: StepModel,
         q: np.ndarray,
         uses: np.ndarray,
         distances: np.ndarray,
         fell: np.ndarray,
     ) -> int:
-        """The same learning, every command sent to a step-by-step world."""
+        """The same learning, every command sent to a step-by-step model."""
         learning = self.config.learning
-        return learn_on_world(
+        return learn_on_model(
             q,
-            world,
+            model,
             space.actions,
             space.next_interior,
             n_exterior=self.task.n_exterior,

@@ -1,4 +1,4 @@
-"""The greedy policy of a learnt Q-table, and the one function that runs it in any world.
+"""The greedy policy of a learnt Q-table, and the one function that runs it in any model.
 
 Training (each generation's greedy trial on the table and its replay in exact physics),
 evaluation and rendering all replay a policy through :func:`rollout`, so they see the same
@@ -16,8 +16,8 @@ from typing import Protocol
 import numpy as np
 
 from qdsega.agent.boltzmann import boltzmann_select, greedy
+from qdsega.agent.model import StepModel
 from qdsega.agent.space import ExplorationSpace
-from qdsega.agent.world import World
 from qdsega.atomic import replaced_atomically
 
 _ARRAYS = ("q", "actions", "postures", "next_interior")
@@ -172,7 +172,7 @@ class Rollout:
             after the end repeating the last pose, shape (steps + 1, 3).
         failed: whether the trial ended because the lower agent failed.
         distance_m: distance toward the light covered (m).
-        failure: why it failed, where the world said (exact physics does), else None.
+        failure: why it failed, where the model said (exact physics does), else None.
     """
 
     actions: np.ndarray
@@ -191,20 +191,20 @@ class Rollout:
 
 def rollout(
     policy: Policy,
-    world: World,
+    model: StepModel,
     *,
     steps: int,
     record: Callable[[], None] | None = None,
 ) -> Rollout:
-    """Run one trial of ``policy`` in ``world`` for ``steps`` commands or until it fails.
+    """Run one trial of ``policy`` in ``model`` for ``steps`` commands or until it fails.
 
     ``record``, if given, is called once the trial has started and after every command (to
-    keep whatever else the world can tell)."""
+    keep whatever else the model can tell)."""
     taken = np.full(steps, -1, dtype=np.int64)
     poses = np.zeros((steps + 1, 3))
     commanded = []
-    exterior = world.start_trial()
-    poses[0] = world.pose()
+    exterior = model.start_trial()
+    poses[0] = model.pose()
     if record is not None:
         record()
     interior, failed, failure = 0, False, None
@@ -213,11 +213,11 @@ def rollout(
             a = policy.act(interior, exterior)
             taken[step] = a
             commanded.append(policy.actions[a])
-            result = world.command(policy.actions[a])
+            result = model.command(policy.actions[a])
             failed, failure = result.failed, result.failure
             interior, exterior = int(policy.next_interior[a]), result.exterior
             if record is not None:
                 record()
-        poses[step + 1] = world.pose()
+        poses[step + 1] = model.pose()
     postures = np.array(commanded, dtype=np.int64).reshape(-1, policy.actions.shape[1])
-    return Rollout(taken, postures, poses, failed, world.distance_covered(), failure)
+    return Rollout(taken, postures, poses, failed, model.distance_covered(), failure)

@@ -177,10 +177,10 @@ def learn_on_table(
         context: ``context[h, i]``: the row of the ``context_*`` arrays for moves from interior
             state ``i`` entered from ``h`` (``h = n_interior``: the trial's start), or -1 for
             row ``i`` of the plain table, shape (n_interior + 1, n_interior)
-            (:class:`qdsega.agent.world.Transitions`).
+            (:class:`qdsega.agent.model.Transitions`).
         context_dx, context_dy, context_dtheta, context_failed: those rows, shape (R, A).
         path_child, path_dx, path_dy, path_dtheta, path_failed: remembered trials
-            (:class:`qdsega.agent.world.Paths`): node reached by each action from each node,
+            (:class:`qdsega.agent.model.Paths`): node reached by each action from each node,
             shape (N, A), node 0 a trial's start; the move into each node, shape (N,).
         next_interior: interior state each action leads to, shape (A,).
         light: light position (x, y) (m).

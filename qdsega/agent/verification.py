@@ -50,7 +50,7 @@ class Verification:
         self, learner: QDSEGA, generation: Generation, grounded: GroundedTransitions | None
     ) -> list[Policy]:
         """The generation's policies to play, the greedy one last; with a ``grounded`` table
-        (the learner's world) the exploring trials and the hopeful policy come first."""
+        (the learner's model) the exploring trials and the hopeful policy come first."""
         if grounded is None:
             return [generation.policy]
         policies: list[Policy] = [

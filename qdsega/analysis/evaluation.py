@@ -55,7 +55,7 @@ from qdsega.baselines.reference_search import (
 from qdsega.description import Formation, World, load_formation, resolve_formation
 from qdsega.errors import ConfigError
 from qdsega.locomotion.env import LocomotionEnv, replay_postures, rules_env
-from qdsega.locomotion.env_world import EnvWorld
+from qdsega.locomotion.env_model import EnvModel
 from qdsega.locomotion.rules import ExactRules
 from qdsega.progress import ProgressFactory
 from qdsega.training.finished_run import FinishedRun
@@ -188,7 +188,7 @@ def evaluate_on(
 def replay_policy(env: LocomotionEnv, policy: GreedyPolicy) -> dict[str, Any]:
     """One trial of the greedy policy in ``env``: its distance (m), failure, commanded
     postures and every unit's centre of mass at the start and after each step."""
-    world = EnvWorld(env=env)
+    world = EnvModel(env=env)
     units: list[list[list[float]]] = []
     trial = rollout(
         policy, world, steps=env.task.trial_steps, record=lambda: units.append(_unit_xy(env))

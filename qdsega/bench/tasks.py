@@ -2,7 +2,7 @@
 in, and that budget; with the yardstick each method's distance is measured against.
 
 * ``legged12-msm``: legged12 in the Minimal Simulation Model; every method's steps are MSM
-  steps and the yardstick is the model's exact optimum (:func:`qdsega.msm.msm_optimum`).
+  steps and the yardstick is the model's optimum (:func:`qdsega.msm.msm_optimum`).
 * ``snake5-pybullet``: snake5 in PyBullet; a step is an upper-agent step simulated in PyBullet
   (a memo transition measured, or a command of an exact trial), and the yardstick is the
   shipped CMA-ES reference gait (:func:`qdsega.baselines.reference_search.reference_gait`,
@@ -140,7 +140,7 @@ class BenchTask:
             optimum = msm_optimum(
                 _msm(formation, config), steps=config.task.trial_steps, light_xy=_light(formation)
             )
-            return "the MSM's exact optimum", optimum.distance_m
+            return "the MSM's optimum", optimum.distance_m
         from qdsega.baselines.reference_search import DEFAULT_BUDGET_TRIALS, reference_gait
 
         reference = reference_gait(formation, rules=self.exact_rules(), workers=1)

@@ -3,12 +3,13 @@
 from __future__ import annotations
 
 import argparse
+import warnings
 from pathlib import Path
 from typing import Any
 
-from qdsega.adaptation.fills import FILLS, default_fill
+from qdsega.adaptation.fills import FILLS, RENAMED_FILLS, default_fill, fill_name
 from qdsega.adaptation.folders import RepertoireFolder
-from qdsega.errors import ConfigError
+from qdsega.errors import ConfigError, QdsegaWarning
 from qdsega.folder_names import default_folder
 
 NAME = "repertoire"
@@ -30,9 +31,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     )
     parser.add_argument(
         "--fill",
-        choices=tuple(FILLS),
-        help="the world the archive is filled in: msm (then every elite played in exact "
-        "physics; the default for a body with legs on both sides) or exact (any body)",
+        choices=(*FILLS, *RENAMED_FILLS),
+        help="the simulator the archive is filled in: msm (then every elite played in exact "
+        "physics; the default for a body with legs on both sides) or pybullet (any body; "
+        "exact, its name before 0.2.0, still works)",
     )
     defaults = ", ".join(f"{fill} {n}" for fill, (n, _) in FILLS.items())
     parser.add_argument(
@@ -104,7 +106,13 @@ def run(args: argparse.Namespace) -> int:
         formation = world.lights(load_formation(resolve_formation(args.formation)))
         config = resolve_config(overrides={"sim": "memo"}, formation=formation)
         seeds, seeded_from = [], None
-    fill = args.fill or default_fill(formation)
+    if args.fill in RENAMED_FILLS:
+        warnings.warn(
+            f"--fill {args.fill} is now --fill {fill_name(args.fill)} (the old name goes in 0.3.0)",
+            QdsegaWarning,
+            stacklevel=1,
+        )
+    fill = fill_name(args.fill) if args.fill else default_fill(formation)
     evaluations, cells = FILLS[fill]
     try:
         settings = RepertoireSettings(

@@ -50,7 +50,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "--sim",
         choices=SIMULATORS,
         default=None,
-        help="world: msm (Minimal Simulation Model, legged only), memo (PyBullet "
+        help="simulator: msm (Minimal Simulation Model, legged only), memo (PyBullet "
         "transitions measured once each) or pybullet (every step simulated); default: the "
         "--config file's, else msm",
     )

@@ -19,7 +19,7 @@ import numpy as np
 from qdsega.agent.policy import Policy, Rollout, SequencePolicy, rollout
 from qdsega.description import Formation
 from qdsega.locomotion.env import LocomotionEnv, Replay, replay_postures, rules_env
-from qdsega.locomotion.env_world import EnvWorld
+from qdsega.locomotion.env_model import EnvModel
 from qdsega.locomotion.rules import ExactRules
 from qdsega.workers.pool import Pool, worker_pool
 
@@ -74,7 +74,7 @@ class ExactTrials:
         draws from a random generator draws from its own copy in a worker (give each its own
         generator)."""
         if self._env is not None:
-            world = EnvWorld(env=self._env)
+            world = EnvModel(env=self._env)
             trials = [rollout(policy, world, steps=steps) for policy in policies]
         else:
             assert self._pool is not None
@@ -123,7 +123,7 @@ def _replay_in_worker(postures: np.ndarray) -> Replay:
 
 def _rollout_in_worker(policy: Policy, steps: int) -> Rollout:
     assert _worker_env is not None, "worker not initialised"
-    return rollout(policy, EnvWorld(env=_worker_env), steps=steps)
+    return rollout(policy, EnvModel(env=_worker_env), steps=steps)
 
 
 def _cycle_in_worker(cycle: np.ndarray, steps: int) -> CycleTrial:
@@ -132,5 +132,5 @@ def _cycle_in_worker(cycle: np.ndarray, steps: int) -> CycleTrial:
 
 
 def _cycle_trial(env: LocomotionEnv, cycle: np.ndarray, steps: int) -> CycleTrial:
-    played = rollout(SequencePolicy(commands=cycle), EnvWorld(env=env), steps=steps)
+    played = rollout(SequencePolicy(commands=cycle), EnvModel(env=env), steps=steps)
     return CycleTrial(played, env.contacts())

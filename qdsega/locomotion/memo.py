@@ -28,7 +28,7 @@ from pathlib import Path
 
 import numpy as np
 
-from qdsega.agent.world import Transitions
+from qdsega.agent.model import Transitions
 from qdsega.assembly import assemble
 from qdsega.atomic import replaced_atomically
 from qdsega.description import Formation, World
@@ -62,7 +62,7 @@ def spots_toward(light_xy: tuple[float, float], count: int) -> tuple[tuple[float
 
 
 class MeasuredTransitions:
-    """A :class:`qdsega.agent.world.TransitionProvider` backed by PyBullet measurements.
+    """A :class:`qdsega.agent.model.TransitionProvider` backed by PyBullet measurements.
 
     Args:
         formation: the robot.

@@ -4,7 +4,7 @@ The same task as :class:`qdsega.locomotion.env.LocomotionEnv` (observation: the 
 the exterior state, ``MultiDiscrete([n_1, ..., n_J, n_bins])``; action: a posture,
 ``MultiDiscrete([n_1, ..., n_J])``; reward eq. (17), the penalty ending an episode when the
 move fails, truncation after ``trial_steps``), but each step is one lookup of the posture pair
-in a :class:`qdsega.agent.world.TransitionProvider`: the Minimal Simulation Model (``msm``,
+in a :class:`qdsega.agent.model.TransitionProvider`: the Minimal Simulation Model (``msm``,
 legged formations) or the PyBullet transitions measured once each (``memo``: a pair not yet in
 the table is measured on first use, in this process). So a learner other than QDSEGA (PPO, say)
 runs at table speed in the same world QDSEGA learns in. The memo world here is the plain
@@ -25,7 +25,7 @@ from typing import Any
 import gymnasium as gym
 import numpy as np
 
-from qdsega.agent.world import TransitionProvider
+from qdsega.agent.model import TransitionProvider
 from qdsega.description import Formation, World, load_formation, resolve_formation
 from qdsega.msm import LegLayout, MinimalSimulationModel, MSMParameters
 from qdsega.task import Pose, Task, TaskConfig

@@ -1,4 +1,4 @@
-"""The Minimal Simulation Model of a legged robot (section 4.1.2) and its exact optimum."""
+"""The Minimal Simulation Model of a legged robot (section 4.1.2) and its optimum."""
 
 from qdsega.msm.legs import LEG_STATES, LegLayout
 from qdsega.msm.model import MinimalSimulationModel, MSMParameters, side_force

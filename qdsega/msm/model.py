@@ -51,7 +51,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from qdsega.agent.world import Transitions
+from qdsega.agent.model import Transitions
 from qdsega.msm.legs import LegLayout
 
 
@@ -99,7 +99,7 @@ def side_force(f_drv: np.ndarray, f_res: np.ndarray) -> np.ndarray:
 
 
 class MinimalSimulationModel:
-    """The MSM of a legged body, as a :class:`qdsega.agent.world.TransitionProvider`.
+    """The MSM of a legged body, as a :class:`qdsega.agent.model.TransitionProvider`.
 
     Args:
         legs: the body's legs.

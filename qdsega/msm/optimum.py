@@ -1,4 +1,4 @@
-"""The exact optimum of the MSM task: the farthest one trial can get toward the light.
+"""The optimum of the MSM task: the farthest one trial can get toward the light.
 
 Method: dynamic programming over leg-state *counts*. Under eqs. (7)-(9) the legs of one side
 are interchangeable, so a side's state is how many of its legs are in each of the 4 states
@@ -40,15 +40,15 @@ class Optimum:
 
     Attributes:
         distance_m: the largest distance toward the light one trial can cover (m).
-        exact: True when the witness reaches the count-DP bound, walking straight at a light
-            straight ahead (exact up to the turning wiggle of the module docstring); otherwise
+        proven: True when the witness reaches the count-DP bound, walking straight at a light
+            straight ahead (the optimum up to the turning wiggle of the module docstring); otherwise
             ``distance_m`` is what the witness covers, and ``bound_m`` only a reference.
         bound_m: ``c_u`` times the best total force of both sides (m).
         postures: the witness, start posture first, shape (steps + 1, J).
     """
 
     distance_m: float
-    exact: bool
+    proven: bool
     bound_m: float
     postures: np.ndarray
 
@@ -158,5 +158,5 @@ def msm_optimum(
     lx, ly = light_xy
     distance = math.hypot(lx, ly) - math.hypot(lx - pose[0], ly - pose[1])
     ahead = abs(ly) < 1e-12 and lx > 0
-    exact = bool(ahead and abs(distance - bound) <= 1e-9 * max(1.0, bound))  # JSON-safe
-    return Optimum(distance_m=distance, exact=exact, bound_m=bound, postures=sequence)
+    proven = bool(ahead and abs(distance - bound) <= 1e-9 * max(1.0, bound))  # JSON-safe
+    return Optimum(distance_m=distance, proven=proven, bound_m=bound, postures=sequence)

@@ -56,7 +56,7 @@ class TrainingConfig:
     Attributes:
         preset: the preset the run started from (``paper-legged`` or ``paper-snake``).
         seed: seed of the run's only random generator.
-        sim: the world: ``msm`` (the Minimal Simulation Model of section 4.1.2), ``memo``
+        sim: the simulator: ``msm`` (the Minimal Simulation Model of section 4.1.2), ``memo``
             (PyBullet transitions measured once each) or ``pybullet`` (exact physics).
         light_bearing_deg: put the light at this bearing (deg, counter-clockwise from the
             initial heading), at the formation's distance; None keeps the formation's light.
@@ -64,7 +64,7 @@ class TrainingConfig:
         task: the task's rules: trial length, reward (eq. 17) and its distance unit, penalty,
             exterior states.
         msm: the Minimal Simulation Model's constants.
-        lower_agent: how PyBullet worlds execute postures and when that fails.
+        lower_agent: how PyBullet executes postures and when that fails.
         physics: PyBullet engine settings.
         workers: processes measuring memo transitions in parallel (and running exact
             trials).

@@ -377,7 +377,7 @@ def _run(
         learner = QDSEGA(
             config=config.agent,
             levels=np.array([len(j.levels_rad) for j in formation.joints]),
-            world=sim.provider,
+            model=sim.provider,
             task=sim.task,
             rng=np.random.default_rng(config.seed),
         )
@@ -588,7 +588,7 @@ def _finish(
         "greedy_distance": greedy_distance,
         "prediction_error": _relative_error(greedy_distance, distance),
         "optimum": None if optimum is None else optimum.bound_m,
-        "optimum_exact": None if optimum is None else optimum.exact,
+        "optimum_proven": None if optimum is None else optimum.proven,
         "greedy_over_optimum": None if optimum is None else distance / optimum.bound_m,
         "final_heading_deg": math.degrees(checkpoint.exact_poses[checkpoint.result - 1, -1, 2]),
         "light_xy": list(light),

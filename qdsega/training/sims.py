@@ -1,6 +1,7 @@
-"""The world a training run learns in, built from the run's configuration, and its exact twin.
+"""The simulator a training run learns with, built from the run's configuration: the learner's
+model and its exact twin.
 
-* ``msm``: the Minimal Simulation Model (section 4.1.2) of a legged formation, with its exact
+* ``msm``: the Minimal Simulation Model (section 4.1.2) of a legged formation, with its
   optimum as the oracle; the model is its own exact physics.
 * ``memo``: PyBullet posture-to-posture transitions, each measured once and kept in the run
   folder (``transitions.npz``), filled on demand by worker processes
@@ -8,7 +9,7 @@
   physics; with ``ground_table`` the table is corrected by the moves seen there
   (:mod:`qdsega.agent.grounding`).
 * ``pybullet``: exact physics, every upper-agent step simulated
-  (:class:`qdsega.locomotion.env_world.EnvWorld`); the learner then runs in Python, so only
+  (:class:`qdsega.locomotion.env_model.EnvModel`); the learner then runs in Python, so only
   small budgets are affordable.
 """
 
@@ -23,10 +24,9 @@ import numpy as np
 
 from qdsega.agent.boltzmann import temperature
 from qdsega.agent.grounding import GroundedTransitions
+from qdsega.agent.model import StepModel, TransitionProvider
 from qdsega.agent.policy import Policy, Rollout
 from qdsega.agent.verification import Verification
-from qdsega.agent.world import TransitionProvider
-from qdsega.agent.world import World as StepWorld
 from qdsega.description import Formation, World
 from qdsega.errors import ConfigError, FormationError
 from qdsega.msm import LegLayout, MinimalSimulationModel, Optimum, msm_optimum
@@ -85,23 +85,23 @@ class Failures:
 
 @dataclass
 class TrainingSim:
-    """A world, its exact twin, and what the run needs to know about them. It only plays
+    """The learner's model, its exact twin, and what the run needs to know about them. It only plays
     trials: which ones is asked of the learner (:class:`qdsega.agent.verification.Verification`).
 
     Attributes:
-        provider: the world the learner runs in: a posture-transition table, or a
-            step-by-step world (exact physics).
+        provider: the model the learner learns on: a posture-transition table, or a
+            step-by-step model (exact physics).
         exact: exact-physics trials to replay what the learner asks (spread over the run's
             workers); None where ``provider`` is exact itself (the MSM, PyBullet).
         grounded: the table that exact trials correct (memo mode with ``ground_table``;
             it is also ``provider``), else None.
         task: the rules.
-        optimum: the exact optimum where one is known (the MSM), else None.
+        optimum: the optimum where one is known (the MSM), else None.
         layout: the legs, for gait figures; None for a legless formation.
         world: the ground it walks on.
     """
 
-    provider: TransitionProvider | StepWorld
+    provider: TransitionProvider | StepModel
     exact: ExactTrials | None
     grounded: GroundedTransitions | None
     task: Task
@@ -109,7 +109,7 @@ class TrainingSim:
     layout: LegLayout | None
     world: World = field(default_factory=World)
     failures: Failures = field(default_factory=Failures, init=False)
-    """How the run's verified trials (exact, or the learner's own where its world is exact)
+    """How the run's verified trials (exact, or the learner's own where its model is exact physics)
     failed so far."""
 
     def play(self, policies: list[Policy]) -> list[Rollout]:
@@ -117,7 +117,7 @@ class TrainingSim:
         counted."""
         if not policies:
             return []
-        assert self.exact is not None, "only a world with an exact twin plays trials"
+        assert self.exact is not None, "only a simulator with an exact twin plays trials"
         trials = self.exact.rollouts(policies, steps=self.task.trial_steps)
         self.count(trials)
         return trials
@@ -134,15 +134,15 @@ class TrainingSim:
                 self.grounded.observe(trial, start)
 
     def simulated_steps(self) -> int:
-        """Upper-agent steps simulated in PyBullet by this world so far: memo transitions
+        """Upper-agent steps simulated in PyBullet by this simulator so far: memo transitions
         measured (each one move from a settled start), exact trials' commands, and every
-        command to an exact learner's world; 0 in the MSM."""
+        command to a learner whose model is exact physics; 0 in the MSM."""
         memo = self.grounded.base if self.grounded is not None else self.provider
         counters = ((memo, "measured"), (self.exact, "commands"), (self.provider, "commands"))
-        return sum(getattr(world, name, 0) for world, name in counters)
+        return sum(getattr(part, name, 0) for part, name in counters)
 
     def state(self) -> dict[str, np.ndarray]:
-        """What the run's history put into the world (grounded observations; the
+        """What the run's history put into the simulator (grounded observations; the
         failures: ``failure_kinds``, ``failure_counts`` and ``failure_totals`` (commands,
         trials)), as arrays."""
         state = {} if self.grounded is None else self.grounded.state()
@@ -165,15 +165,15 @@ class TrainingSim:
             self.failures = Failures(commands, trials, {str(k): int(n) for k, n in counts})
 
     def save(self, run: Path) -> None:
-        """Keep what the world measured (memo mode) in the run folder."""
+        """Keep what the simulator measured (memo mode) in the run folder."""
         memo = self.grounded.base if self.grounded is not None else self.provider
         save = getattr(memo, "save", None)
         if save is not None:
             save(run / RunFolder.TRANSITIONS)
 
     def close(self) -> None:
-        for world in (self.grounded.base if self.grounded else self.provider, self.exact):
-            close = getattr(world, "close", None)
+        for part in (self.grounded.base if self.grounded else self.provider, self.exact):
+            close = getattr(part, "close", None)
             if close is not None:
                 close()
 
@@ -222,7 +222,7 @@ def build_sim(
     ``measuring``.
 
     Raises:
-        FormationError: the formation cannot be modelled by that world (a snake in the MSM).
+        FormationError: the formation cannot be modelled by that simulator (a snake in the MSM).
     """
     task = Task(config=config.task, light_xy=formation.light.position_m)
     rules = config.rules(world)
@@ -233,11 +233,11 @@ def build_sim(
         return TrainingSim(model, None, None, task, optimum, legs, world=rules.world)
     layout = LegLayout.from_formation(formation, both_sides=False) if formation.legs else None
     from qdsega.locomotion.env import rules_env  # starts PyBullet: only when needed
-    from qdsega.locomotion.env_world import EnvWorld
+    from qdsega.locomotion.env_model import EnvModel
 
     if config.sim == "pybullet":
         env = rules_env(formation, rules)
-        return TrainingSim(EnvWorld(env=env), None, None, task, None, layout, world=rules.world)
+        return TrainingSim(EnvModel(env=env), None, None, task, None, layout, world=rules.world)
     from qdsega.locomotion.exact_trials import ExactTrials
     from qdsega.locomotion.memo import MeasuredTransitions, spots_toward
 

@@ -11,7 +11,7 @@ from qdsega.adaptation.fills import default_fill
 from qdsega.adaptation.msm_fill import commanded_duty, fill_in_msm, msm_distance
 from qdsega.agent.policy import SequencePolicy, rollout
 from qdsega.agent.space import ExplorationSpace
-from qdsega.agent.table_world import TableWorld
+from qdsega.agent.table_model import TableModel
 from qdsega.description import load_formation, resolve_formation
 from qdsega.errors import FormationError
 from qdsega.msm import LegLayout, MinimalSimulationModel, MSMParameters
@@ -61,7 +61,7 @@ def test_a_gaits_msm_distance_is_the_table_walks():
         cycle = np.vstack([cycle, STROKE[rng.integers(0, 4)], STROKE[3]])
         space = ExplorationSpace.from_population(cycle, MODEL.start_posture())
         table = MODEL.transitions(space.postures, space.actions)
-        world = TableWorld(space=space, table=table, task=task)
+        world = TableModel(space=space, table=table, task=task)
         policy = SequencePolicy(commands=cycle, space=space)
         walked = rollout(policy, world, steps=task.trial_steps)
         expected = float("nan") if walked.failed else walked.distance_m
@@ -92,7 +92,7 @@ def test_a_fill_keeps_gaits_at_their_msm_distance_in_their_cells_and_repeats():
 
 def test_a_body_without_legs_on_both_sides_is_refused_and_filled_in_exact_physics_instead():
     snake = load_formation(resolve_formation("snake5"))
-    assert default_fill(snake) == "exact" and default_fill(QUADRUPED) == "msm"
+    assert default_fill(snake) == "pybullet" and default_fill(QUADRUPED) == "msm"
     archive = Archive.empty(np.full((4, 2), 0.5), max_cycle=4, n_joints=len(snake.joints))
     with pytest.raises(FormationError, match="needs a legged formation"):
         fill_in_msm(snake, archive, task=TaskConfig(), evaluations=10, initial=5, max_cycle=4,

@@ -49,7 +49,7 @@ def test_a_build_stopped_and_continued_gives_the_same_archive(tmp_path):
 
 
 def test_the_command_killed_and_run_again_builds_the_same_archive_and_draws_it(tmp_path):
-    args = ("repertoire", "quadruped", "--fill", "exact", "--evaluations", "40", "--cells", "8",
+    args = ("repertoire", "quadruped", "--fill", "pybullet", "--evaluations", "40", "--cells", "8",
             "--workers", "1")  # fmt: skip
     killed = tmp_path / "killed"
     process = start_cli(*args, "--out", killed)

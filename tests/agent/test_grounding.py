@@ -7,10 +7,10 @@ import numpy as np
 import pytest
 
 from qdsega.agent.grounding import GroundedTransitions
+from qdsega.agent.model import Transitions
 from qdsega.agent.policy import Rollout
 from qdsega.agent.space import ExplorationSpace
-from qdsega.agent.table_world import TableWorld
-from qdsega.agent.world import Transitions
+from qdsega.agent.table_model import TableModel
 from qdsega.task import Task, TaskConfig
 
 P = np.array([[0], [1], [2]])  # three postures of a one-joint body
@@ -124,7 +124,7 @@ def test_a_remembered_trial_is_walked_exactly_whatever_later_trials_saw():
     table.observe(_trial([1, 2, 1, 2], [0.0, 0.1, 0.3, 0.6, 1.0]), P[0])
     table.observe(_trial([2, 1, 2], [0.0, 0.05, 0.1, 0.12]), P[0])  # 1 -> 2 after 2 -> 1 again
     space = ExplorationSpace.from_population(P[1:], P[0])
-    world = TableWorld(
+    world = TableModel(
         space=space, table=table.transitions(space.postures, space.actions), task=_TASK
     )
     world.start_trial()

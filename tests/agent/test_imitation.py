@@ -13,7 +13,7 @@ from qdsega.agent.imitation import imitate
 from qdsega.agent.learner import QDSEGA
 from qdsega.agent.policy import Rollout, SequencePolicy, rollout
 from qdsega.agent.space import ExplorationSpace
-from qdsega.agent.table_world import TableWorld
+from qdsega.agent.table_model import TableModel
 from qdsega.description import load_formation
 from qdsega.description.shipped import ASSEMBLIES_DIR
 from qdsega.msm import LegLayout, MinimalSimulationModel, MSMParameters, msm_optimum
@@ -72,7 +72,7 @@ def _msm_learner(imitate_elite: bool) -> tuple[QDSEGA, MinimalSimulationModel, T
     learner = QDSEGA(
         config=config,
         levels=np.full(len(formation.joints), 2),
-        world=world,
+        model=world,
         task=task,
         rng=np.random.default_rng(3),
     )
@@ -86,7 +86,7 @@ def _optimum_trial(world: MinimalSimulationModel, task: Task) -> Rollout:
     table = world.transitions(space.postures, space.actions)
     trial = rollout(
         SequencePolicy(commands=commands, space=space),
-        TableWorld(space=space, table=table, task=task),
+        TableModel(space=space, table=table, task=task),
         steps=task.trial_steps,
     )
     assert trial.distance_m == pytest.approx(optimum.distance_m, rel=1e-9)

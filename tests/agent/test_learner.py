@@ -26,7 +26,7 @@ def _learner(seed: int, generations: int, trials: int) -> tuple[QDSEGA, float]:
     learner = QDSEGA(
         config=config,
         levels=np.full(len(formation.joints), 2),
-        world=world,
+        model=world,
         task=Task(config=preset.task, light_xy=formation.light.position_m),
         rng=np.random.default_rng(seed),
     )
@@ -80,7 +80,7 @@ def test_legged12_walks_near_the_optimum_on_a_reduced_budget():
     learner = QDSEGA(
         config=with_budget(preset.agent, generations=36),
         levels=np.array([len(j.levels_rad) for j in formation.joints]),
-        world=world,
+        model=world,
         task=Task(config=preset.task, light_xy=formation.light.position_m),
         rng=np.random.default_rng(4),
     )
@@ -115,7 +115,7 @@ def test_an_action_new_to_a_carried_state_starts_at_zero_or_at_the_states_best(n
     seen = {a.tobytes() for a in first.space.actions}
     population[0] = next(p for p in itertools.product([0, 1], repeat=population.shape[1])
                          if np.array(p).tobytes() not in seen)  # fmt: skip
-    space = ExplorationSpace.from_population(population, learner.world.start_posture())
+    space = ExplorationSpace.from_population(population, learner.model.start_posture())
     start = learner._initial_q(space).reshape(space.n_interior, 4, space.n_actions)
     old_q = first.q.reshape(first.space.n_interior, 4, first.space.n_actions)
     kept = np.array([np.any(np.all(space.actions == a, axis=1)) for a in first.space.actions])

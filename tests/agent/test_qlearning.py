@@ -16,8 +16,8 @@ from qdsega.agent.boltzmann import (
     live_actions,
     temperature,
 )
+from qdsega.agent.model import Transitions
 from qdsega.agent.qlearning import _choose, _update_stats, learn_on_table, q_update
-from qdsega.agent.world import Transitions
 from qdsega.task import exterior_state
 
 EDGES = np.radians([-45.0, -15.0, 15.0, 45.0])

@@ -32,7 +32,7 @@ def test_a_killed_reform_keeps_what_it_finished_and_ends_with_everything(
 ):
     body, config = biped
     repertoire = tmp_path / "repertoire"  # a body whose legs L1 and R1 the biped has
-    built = run_cli("repertoire", "quadruped", "--fill", "exact", "--evaluations", "32",
+    built = run_cli("repertoire", "quadruped", "--fill", "pybullet", "--evaluations", "32",
                     "--cells", "8", "--workers", "1", "--out", repertoire)  # fmt: skip
     assert built.returncode == 0, built.stderr
     out = tmp_path / "reform"

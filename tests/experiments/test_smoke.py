@@ -189,7 +189,7 @@ def test_formation_table_reads_a_run_and_a_sweeps_folder(reconfigured):
 def test_adaptation_table_adapts_a_tiny_repertoire(tmp_path):
     repertoires = tmp_path / "repertoires"
     built = subprocess.run(
-        [sys.executable, "-m", "qdsega.cli", "repertoire", "quadruped", "--fill", "exact",
+        [sys.executable, "-m", "qdsega.cli", "repertoire", "quadruped", "--fill", "pybullet",
          "--evaluations", "8", "--cells", "4", "--workers", "1",
          "--out", repertoires / "quadruped-seed0"],
         capture_output=True, text=True, cwd=ROOT, timeout=300, check=False,

@@ -1,4 +1,4 @@
-"""The exact optimum (DP over leg-state counts) against exhaustive search, turns included."""
+"""The optimum (DP over leg-state counts) against exhaustive search, turns included."""
 
 from __future__ import annotations
 
@@ -57,7 +57,7 @@ def brute_force(model: MinimalSimulationModel, steps: int) -> float:
 def test_dp_equals_brute_force_on_small_bodies(layout, per_side, steps, params):
     model = MinimalSimulationModel(legs=layout(per_side), params=params)
     optimum = msm_optimum(model, steps=steps, light_xy=LIGHT)
-    assert optimum.exact
+    assert optimum.proven
     assert optimum.distance_m == pytest.approx(brute_force(model, steps), abs=1e-12)
 
 
@@ -88,5 +88,5 @@ def test_light_off_axis_is_not_claimed_exact(layout):
     # The light as training passes it (a NumPy array): exact stays a plain bool, which
     # summary.json can hold (np.bool_ broke the turn run of tools/reproduce_msm.py).
     optimum = msm_optimum(model, steps=4, light_xy=np.array([25.0, 43.3]))
-    assert optimum.exact is False
+    assert optimum.proven is False
     assert optimum.bound_m >= optimum.distance_m

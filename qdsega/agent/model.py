@@ -1,7 +1,7 @@
-"""How the agent sees the world: posture-transition tables, and a step-by-step interface.
+"""How the agent models its surroundings: posture-transition tables, and a step-by-step interface.
 
 The upper agent (section 3.2.2) commands postures; a lower agent drives the joints there or
-fails. Two kinds of world:
+fails. Two kinds of model (the terrain itself is a world, :mod:`qdsega.description.world`):
 
 * A **transition table** (:class:`TransitionProvider`): the outcome of commanding posture ``j``
   from posture ``i`` does not depend on where the robot is, so it is a table of body-frame
@@ -9,7 +9,7 @@ fails. Two kinds of world:
   from (a moving body carries its last move into the next) and by whole trials remembered
   command by command (:class:`Paths`). The Minimal Simulation Model is one (analytic), a
   simulator measured once per transition is another. The compiled learning loop runs on it.
-* A **step-by-step world** (:class:`World`): anything else; the plain Python loop runs on it.
+* A **step-by-step model** (:class:`StepModel`): anything else; the plain Python loop runs on it.
 """
 
 from __future__ import annotations
@@ -168,7 +168,7 @@ class Transitions:
 
 
 class TransitionProvider(Protocol):
-    """A world whose moves depend only on the posture pair (see the module docstring)."""
+    """A model whose moves depend only on the posture pair (see the module docstring)."""
 
     @property
     def n_joints(self) -> int:
@@ -192,7 +192,7 @@ class StepResult:
         reward: eq. (17) reward of the step, or the penalty if the lower agent failed (-).
         exterior: exterior state index (the bin of the angle to the light).
         failed: the lower agent could not reach the posture; the trial is over.
-        failure: why, where the world can tell (exact physics does), else None.
+        failure: why, where the model can tell (exact physics does), else None.
     """
 
     reward: float
@@ -202,8 +202,8 @@ class StepResult:
 
 
 @runtime_checkable
-class World(Protocol):
-    """A step-by-step world: one trial at a time, one commanded posture at a time."""
+class StepModel(Protocol):
+    """A step-by-step model: one trial at a time, one commanded posture at a time."""
 
     @property
     def n_joints(self) -> int:

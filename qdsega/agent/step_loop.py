@@ -1,10 +1,10 @@
-"""Learning dynamics on a step-by-step :class:`~qdsega.agent.world.World`, in Python.
+"""Learning dynamics on a step-by-step :class:`~qdsega.agent.model.StepModel`, in Python.
 
 The same algorithm as the compiled table loop (:mod:`qdsega.agent.qlearning`), step for step:
 Boltzmann roulette at eq. (18)'s temperature with one uniform draw per step, eq. (1) updates,
-a failed command terminal with the world's penalty. Only the world differs: here every command
-goes to the world (exact physics), so this loop serves budgets of hundreds of steps, not the
-paper's millions. The greedy trial is :func:`qdsega.agent.policy.rollout`, in any world.
+a failed command terminal with the model's penalty. Only the model differs: here every command
+goes to the model (exact physics), so this loop serves budgets of hundreds of steps, not the
+paper's millions. The greedy trial is :func:`qdsega.agent.policy.rollout`, in any model.
 """
 
 from __future__ import annotations
@@ -12,13 +12,13 @@ from __future__ import annotations
 import numpy as np
 
 from qdsega.agent.boltzmann import boltzmann_select, temperature
+from qdsega.agent.model import StepModel
 from qdsega.agent.qlearning import q_update
-from qdsega.agent.world import World
 
 
-def learn_on_world(
+def learn_on_model(
     q: np.ndarray,
-    world: World,
+    model: StepModel,
     actions: np.ndarray,
     next_interior: np.ndarray,
     *,
@@ -33,7 +33,7 @@ def learn_on_world(
     distances: np.ndarray,
     fell: np.ndarray,
 ) -> int:
-    """One generation of Q-learning in ``world``; updates ``q`` (states, A) in place.
+    """One generation of Q-learning in ``model``; updates ``q`` (states, A) in place.
 
     Args:
         actions: the action postures, shape (A, J).
@@ -48,7 +48,7 @@ def learn_on_world(
     steps = 0
     for trial in range(trials):
         temp = temperature(trial, *temperature_params)
-        exterior = world.start_trial()
+        exterior = model.start_trial()
         interior = 0
         fell[trial] = False
         for _ in range(trial_steps):
@@ -56,7 +56,7 @@ def learn_on_world(
             a = boltzmann_select(q[s], temp, rng.random(), weights)
             uses[a] += 1
             steps += 1
-            result = world.command(actions[a])
+            result = model.command(actions[a])
             if result.failed:
                 q[s, a] = (1.0 - alpha) * q[s, a] + alpha * result.reward
                 fell[trial] = True
@@ -65,5 +65,5 @@ def learn_on_world(
             exterior = result.exterior
             best_next = float(q[interior * n_exterior + exterior].max())
             q[s, a] = q_update(q[s, a], result.reward, best_next, alpha, gamma)
-        distances[trial] = world.distance_covered()
+        distances[trial] = model.distance_covered()
     return steps

@@ -1,4 +1,4 @@
-"""A transition table walked one command at a time: the step-by-step view of a table world.
+"""A transition table walked one command at a time: the step-by-step view of a table model.
 
 The compiled learning loop walks the table itself; this class lets everything that runs trials
 one command at a time (:func:`qdsega.agent.policy.rollout`, the Python learning loop) walk the
@@ -9,13 +9,13 @@ from __future__ import annotations
 
 import numpy as np
 
+from qdsega.agent.model import StepResult, Transitions
 from qdsega.agent.space import ExplorationSpace
-from qdsega.agent.world import StepResult, Transitions
 from qdsega.task import Pose, Task
 
 
-class TableWorld:
-    """A :class:`qdsega.agent.world.World` over one generation's transition table.
+class TableModel:
+    """A :class:`qdsega.agent.model.World` over one generation's transition table.
 
     Args:
         space: the generation's actions and interior states.

@@ -1,16 +1,16 @@
-"""The Gymnasium environment seen as the agent's step-by-step world (exact mode)."""
+"""The Gymnasium environment seen as the agent's step-by-step model (exact mode)."""
 
 from __future__ import annotations
 
 import numpy as np
 
-from qdsega.agent.world import StepResult
+from qdsega.agent.model import StepResult
 from qdsega.locomotion.env import LocomotionEnv
 from qdsega.task import Pose
 
 
-class EnvWorld:
-    """A :class:`qdsega.agent.world.World` over a :class:`LocomotionEnv`: every command is
+class EnvModel:
+    """A :class:`qdsega.agent.model.World` over a :class:`LocomotionEnv`: every command is
     simulated in PyBullet.
 
     Args:

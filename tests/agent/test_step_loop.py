@@ -10,16 +10,16 @@ import pytest
 
 from qdsega.agent.config import PRESETS
 from qdsega.agent.genetic import random_population
+from qdsega.agent.model import Paths, Transitions
 from qdsega.agent.qlearning import learn_on_table
 from qdsega.agent.space import ExplorationSpace
-from qdsega.agent.table_world import TableWorld
-from qdsega.agent.world import Paths, Transitions
-from qdsega.agent.world_loop import learn_on_world
+from qdsega.agent.step_loop import learn_on_model
+from qdsega.agent.table_model import TableModel
 from qdsega.baselines.classic_gaits import leg_gait
 from qdsega.description import load_formation
 from qdsega.description.shipped import ASSEMBLIES_DIR
 from qdsega.locomotion.env import LocomotionEnv
-from qdsega.locomotion.env_world import EnvWorld
+from qdsega.locomotion.env_model import EnvModel
 from qdsega.msm import LegLayout, MinimalSimulationModel, MSMParameters
 from qdsega.task import Task, TaskConfig, relative_move
 
@@ -39,7 +39,7 @@ def _learn(world, q, space, task, trials, schedule, alpha, gamma, rng):
             rng, uses, distances, fell,
         )  # fmt: skip
     else:
-        steps = learn_on_world(
+        steps = learn_on_model(
             q, world, space.actions, space.next_interior, n_exterior=task.n_exterior,
             trials=trials, trial_steps=task.trial_steps, alpha=alpha, gamma=gamma,
             temperature_params=schedule, rng=rng, uses=uses, distances=distances, fell=fell,
@@ -66,7 +66,7 @@ def test_compiled_loop_python_loop_and_env_give_the_same_rewards():
     order = [int(np.flatnonzero((space.actions == p).all(axis=1))[0]) for p in sequence]
 
     # Exact physics: rewards, and the body-frame move of every step.
-    world = EnvWorld(env=env)
+    world = EnvModel(env=env)
     task = env.task
     exterior = world.start_trial()
     rewards, visited, moves = [], [], []
@@ -93,7 +93,7 @@ def test_compiled_loop_python_loop_and_env_give_the_same_rewards():
 
     worlds = {
         "compiled loop on the table": table,
-        "Python loop on the table": TableWorld(space=space, table=table, task=task),
+        "Python loop on the table": TableModel(space=space, table=table, task=task),
         "Python loop in exact physics": world,
     }
     for name, learner_world in worlds.items():
@@ -161,7 +161,7 @@ def test_python_world_loop_matches_the_compiled_table_loop(extra):
         [learning.temperature_scale, learning.temperature_rate, learning.temperature_offset]
     )
     results = []
-    for world in (table, TableWorld(space=space, table=table, task=task)):
+    for world in (table, TableModel(space=space, table=table, task=task)):
         q = np.zeros((space.n_interior * task.n_exterior, space.n_actions))
         rng = np.random.default_rng(5)
         steps, *arrays = _learn(world, q, space, task, 300, schedule, 0.5, 0.9, rng)
