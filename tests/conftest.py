@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import fcntl
 import os
 import shutil
 import textwrap
@@ -49,22 +50,31 @@ def _reference_cache(tmp_path_factory: pytest.TempPathFactory) -> None:
 
 @pytest.fixture(scope="session")
 def tiny_run(tmp_path_factory: pytest.TempPathFactory) -> Path:
-    """A finished, evaluated run (snake5 in memo mode, seconds of training), made once per test
-    process; copy it (:func:`shutil.copytree`) before changing it. What train and evaluate
-    printed is beside it, in ``printed.txt``."""
+    """A finished, evaluated run (snake5 in memo mode, seconds of training), made once for all
+    test processes (the first makes it, under a lock, the others wait and share it); copy it
+    (:func:`shutil.copytree`) before changing it. What train and evaluate printed is beside
+    it, in ``printed.txt``."""
     from helpers import TINY_TRAINING, run_cli
 
-    folder = tmp_path_factory.mktemp("tiny-run")
-    (folder / "tiny.yaml").write_text(TINY_TRAINING)
-    run = folder / "snake5"
-    trained = run_cli(
-        "train", "snake5", "--sim", "memo", "--generations", "1",
-        "--config", folder / "tiny.yaml", "--out", run,
-    )  # fmt: skip
-    assert trained.returncode == 0, trained.stderr
-    evaluated = run_cli("evaluate", run, "--reference-trials", "0")
-    assert evaluated.returncode == 0, evaluated.stderr
-    (folder / "printed.txt").write_text(trained.stdout + trained.stderr + evaluated.stdout)
+    shared = tmp_path_factory.getbasetemp()
+    if "PYTEST_XDIST_WORKER" in os.environ:
+        shared = shared.parent  # this session's folder, above each worker's own
+    folder, run = shared / "tiny-run", shared / "tiny-run" / "snake5"
+    with open(shared / "tiny-run.lock", "w") as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX)
+        if not (folder / "printed.txt").is_file():
+            shutil.rmtree(folder, ignore_errors=True)  # a process killed while it made it
+            folder.mkdir()
+            (folder / "tiny.yaml").write_text(TINY_TRAINING)
+            trained = run_cli(
+                "train", "snake5", "--sim", "memo", "--generations", "1",
+                "--config", folder / "tiny.yaml", "--out", run,
+            )  # fmt: skip
+            assert trained.returncode == 0, trained.stderr
+            evaluated = run_cli("evaluate", run, "--reference-trials", "0")
+            assert evaluated.returncode == 0, evaluated.stderr
+            printed = trained.stdout + trained.stderr + evaluated.stdout
+            (folder / "printed.txt").write_text(printed)
     return run
 
 

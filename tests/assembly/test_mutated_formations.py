@@ -22,10 +22,16 @@ from qdsega.simulation.bullet import BulletSimulation
 pytestmark = pytest.mark.slow  # end to end: make test-fast leaves it out
 
 SECONDS_PER_MUTANT = 5.0
-SAME_KEYS_AS = {"hexapod_lost_leg": "hexapod", "quadruped_tripod": "quadruped", "snake6": "snake5"}
-"""Changed bodies written with the same keys as their originals: their mutants are the
-originals' mutants less a unit, so they are left out (the locked leg's file has keys of its
-own and stays)."""
+SAME_KEYS_AS = {
+    "hexapod": "quadruped",
+    "hexapod_lost_leg": "quadruped",
+    "legged12": "quadruped",
+    "quadruped_tripod": "quadruped",
+    "snake6": "snake5",
+}
+"""Bodies written with the same keys as another (the same paths in the YAML, other numbers of
+legs or units): their mutants change the same things, so they are left out (the locked leg's
+file and snake10's have keys of their own and stay)."""
 
 
 def _check_mutant(data: Any, folder: Any, capfd: pytest.CaptureFixture[str]) -> str:
@@ -68,3 +74,18 @@ def test_every_mutant_assembles_and_loads_or_is_refused_in_one_line(file, tmp_pa
     assert not failures, "\n".join(failures)
     print(f"{file.stem}: {sum(outcomes.values())} mutants, {outcomes}")
     assert outcomes["assembled"] >= 5 and outcomes["refused"] >= 100
+
+
+def _key_paths(data: Any, path: tuple[str, ...] = ()) -> set[tuple[str, ...]]:
+    if isinstance(data, dict):
+        return set().union(*({(*path, k)} | _key_paths(v, (*path, k)) for k, v in data.items()))
+    if isinstance(data, list):
+        return set().union(set(), *(_key_paths(v, (*path, "[]")) for v in data))
+    return set()
+
+
+@pytest.mark.parametrize(("body", "like"), SAME_KEYS_AS.items())
+def test_a_body_left_out_has_the_keys_of_the_one_it_is_like(body, like):
+    files = {f.stem: f for f in SHIPPED_FORMATIONS}
+    keys = [_key_paths(yaml.safe_load(files[name].read_text())) for name in (body, like)]
+    assert keys[0] == keys[1]
