@@ -2,7 +2,7 @@
 
 A trial starts with the robot at the origin, heading +x, in its start posture, and lasts
 ``trial_steps`` upper-agent steps unless the lower agent fails first. Every learning loop (the
-compiled table loop, the Python loop over a step-by-step world), the Gymnasium environment,
+compiled table loop, the Python loop over a step-by-step model), the Gymnasium environment,
 evaluation and the reference search use these rules through :class:`Task` or its compiled
 kernels:
 

@@ -6,7 +6,7 @@ Usage: .venv/bin/python experiments/gait_predictions/gait_predictions.py [FORMAT
 For the formation's CMA-ES reference gait (shipped or cached, else searched first) and random
 gaits of 2 to 4 postures, each repeated for a trial under the ``paper-snake`` preset's rules,
 prints the distance covered with exact physics and as three tables predict it, each move
-looked up and chained as the learner's table world chains them:
+looked up and chained as the learner's table model chains them:
 
 * settled: the memo table (each move from a settled start, :mod:`qdsega.locomotion.memo`);
 * after h: each move ``i -> j`` measured right after ``h -> i`` (``h`` reached from rest and

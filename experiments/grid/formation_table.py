@@ -6,7 +6,7 @@ Each argument is a run folder that ``qdsega train`` finished and ``qdsega evalua
 or the folder a ``qdsega sweep`` wrote (``runs/grid`` for ``experiments/grid/grid.yaml``): its
 runs that finished, in the order of its ``sweep.csv``. The first table is Markdown, one row per
 run: formation, seed, budget, wall time of training, the final greedy policy's distance as the
-learner's world predicted it and with exact physics, the prediction's error, the share of
+learner's model predicted it and with exact physics, the prediction's error, the share of
 generations whose prediction was within 10 % of their exact replay, the last generation's
 exact distance over the first's, the classic and the best reference gait, the ratio
 learnt/best reference and the rhythm (period, phase lags). The second table aggregates the

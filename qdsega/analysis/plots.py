@@ -113,7 +113,7 @@ def _learning_curve(
     evaluation: dict[str, Any] | None,
     fresh: tuple[Path, dict[str, np.ndarray]] | None = None,
 ) -> Path:
-    """Each generation's greedy policy with exact physics (and, where the learner's world is a
+    """Each generation's greedy policy with exact physics (and, where the learner's model is a
     measured table, the table's prediction), against the optimum (MSM) or the reference; for a
     warm-started run, against a fresh run's exact curve and 0.9 of its result (its farthest
     exact generation), with the verified distance of the path it was handed at generation 0."""

@@ -412,7 +412,7 @@ def search_cpg(
 ) -> CPGSearch:
     """CMA-ES over whole generations within the budget, every candidate one trial played by
     ``replay`` (posture sequences (trial_steps, J) -> their outcomes, in order: exact
-    physics, or a table world); when CMA-ES stops (every candidate the same gait), it
+    physics, or a table model); when CMA-ES stops (every candidate the same gait), it
     restarts from a random point with what is left of the budget. ``on_iteration(trials run,
     best distance so far or None)`` is called after each iteration (to show progress)."""
     import cma  # here: it loads scipy.stats (about 0.6 s), which a cached reference needs not

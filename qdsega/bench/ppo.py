@@ -1,4 +1,4 @@
-"""PPO from stable-baselines3 on the table world's Gymnasium environment.
+"""PPO from stable-baselines3 on the table model's Gymnasium environment.
 
 PPO learns in ``qdsega/TableLocomotion-v0`` (:mod:`qdsega.locomotion.table_env`): the MSM, or for
 a PyBullet task the memo table, each pair measured in PyBullet on first use, so PPO runs at

@@ -35,7 +35,7 @@ from qdsega.task import Task
 from qdsega.training.config import TrainingConfig, resolve_config
 
 LEARNING_SIM = {"msm": "msm", "pybullet": "memo"}
-"""A task's simulator -> the table world its learners learn in (``qdsega train --sim``, and
+"""A task's simulator -> the table model its learners learn in (``qdsega train --sim``, and
 :class:`qdsega.locomotion.table_env.TableLocomotionEnv`)."""
 FLAT = "flat"
 """The world every task walks in unless told otherwise: the plane of before worlds existed."""

@@ -11,6 +11,6 @@ gymnasium.register(id=ENV_ID, entry_point="qdsega.locomotion.env:LocomotionEnv")
 
 TABLE_ENV_ID = "qdsega/TableLocomotion-v0"
 """The Gymnasium id of :class:`qdsega.locomotion.table_env.TableLocomotionEnv`: the same task in
-a table world (the MSM or a memo table), for learners other than QDSEGA at table speed."""
+a table model (the MSM or a memo table), for learners other than QDSEGA at table speed."""
 
 gymnasium.register(id=TABLE_ENV_ID, entry_point="qdsega.locomotion.table_env:TableLocomotionEnv")

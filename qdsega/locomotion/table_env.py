@@ -1,4 +1,4 @@
-"""A Gymnasium environment over a table world: the MSM, or a formation's memo table.
+"""A Gymnasium environment over a table model: the MSM, or a formation's memo table.
 
 The same task as :class:`qdsega.locomotion.env.LocomotionEnv` (observation: the posture and
 the exterior state, ``MultiDiscrete([n_1, ..., n_J, n_bins])``; action: a posture,
@@ -31,11 +31,11 @@ from qdsega.msm import LegLayout, MinimalSimulationModel, MSMParameters
 from qdsega.task import Pose, Task, TaskConfig
 
 SIMS = ("msm", "memo")
-"""The table worlds this environment walks (``sim``)."""
+"""The table models this environment walks (``sim``)."""
 
 
 class TableLocomotionEnv(gym.Env[np.ndarray, np.ndarray]):
-    """Walk toward the light in a table world.
+    """Walk toward the light in a table model.
 
     Args:
         formation: a :class:`Formation`, a formation file, or a shipped formation's name.

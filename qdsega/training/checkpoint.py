@@ -35,7 +35,7 @@ class Checkpoint:
         learner: the learner's state.
         metrics: one row per finished generation, columns of
             :data:`qdsega.training.run_folder.METRIC_COLUMNS`, shape (G, columns).
-        poses: each finished generation's greedy trial in the learner's world (x m, y m,
+        poses: each finished generation's greedy trial in the learner's model (x m, y m,
             theta rad), shape (G, steps + 1, 3).
         exact_poses: the same policies replayed with exact physics, shape (G, steps + 1, 3).
         gait: the postures the result's exact replay went through, start posture first,

@@ -17,7 +17,7 @@ class ProgressDisplay:
     """A :class:`qdsega.training.run.Progress` that writes to ``stream``.
 
     On a terminal it draws a bar (generation, the greedy policy's distance with exact physics
-    and as the learner's world predicted it, Q-table size, steps/s, the share of the verified
+    and as the learner's model predicted it, Q-table size, steps/s, the share of the verified
     trials' commands that failed and how, ETA); otherwise (a log file, a pipe, CI) it prints
     one line per generation with the same facts.
     """

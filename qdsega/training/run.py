@@ -54,7 +54,7 @@ from qdsega.training.sims import (
 )
 
 PREDICTION_TOLERANCE = 0.10
-"""The learner's world predicts a result well when its prediction is this close to exact
+"""The learner's model predicts a result well when its prediction is this close to exact
 physics (relative): the memo table holds where the run went."""
 HOPELESS_SHARE = 0.9
 """A generation whose verified trials' commands failed at least this often (nearly every trial
