@@ -1,4 +1,4 @@
-"""The table worlds as a Gymnasium environment: checked by Gymnasium, and the same rewards as
+"""The table models as a Gymnasium environment: checked by Gymnasium, and the same rewards as
 the compiled learning loop for the same postures."""
 
 from __future__ import annotations
