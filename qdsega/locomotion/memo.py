@@ -209,6 +209,28 @@ def _key(source: np.ndarray, target: np.ndarray) -> bytes:
     return np.concatenate([source, target]).astype(np.int64).tobytes()
 
 
+def blocked_spots(
+    formation: Formation,
+    *,
+    physics: PhysicsSettings,
+    world: World,
+    spots: tuple[tuple[float, float], ...],
+) -> list[tuple[float, float]]:
+    """The spots where the body cannot stand at rest (it would be inside an obstacle): every
+    move measured from one fails, and so, in the table, every move."""
+    if len(spots) == 1:
+        return []  # the origin: training refuses a start inside before it gets here
+    blocked = []
+    with BulletSimulation(robot=assemble(formation), settings=physics, world=world) as sim:
+        rest = formation.posture_rad(formation.rest_levels())
+        for spot in spots:
+            try:
+                sim.reset(rest, xy_m=spot)
+            except WorldError:
+                blocked.append(spot)
+    return blocked
+
+
 class _Bench:
     """A worker's own simulation, lower agent and a snapshot right after loading."""
 

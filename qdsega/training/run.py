@@ -59,7 +59,11 @@ physics (relative): the memo table holds where the run went."""
 HOPELESS_SHARE = 0.9
 """A generation whose verified trials' commands failed at least this often (nearly every trial
 failing at its first command) warns once: the body may not be able to move at all."""
+MISSES_TO_WARN = 3
+"""A memo run warns, while it trains, once its table has mispredicted the greedy policy by more
+than ``PREDICTION_TOLERANCE`` this many generations in a row."""
 _SIM_STEPS = METRIC_COLUMNS.index("sim_steps")
+_GREEDY = METRIC_COLUMNS.index("greedy_distance_m")
 _GREEDY_EXACT = METRIC_COLUMNS.index("greedy_exact_m")
 
 
@@ -433,6 +437,9 @@ def _run(
                     if failed.share >= HOPELESS_SHARE and not warned:
                         warned = True
                         warnings.warn(_hopeless(failed, generation.index), QdsegaWarning, 2)
+                    misses = table_misses(checkpoint.metrics)
+                    if sim.exact is not None and misses == MISSES_TO_WARN:
+                        warnings.warn(_unheld(checkpoint.metrics), QdsegaWarning, 2)
                     if progress is not None:
                         report = _report(
                             checkpoint, generation, exact, config, session_start, resumed_at
@@ -650,6 +657,31 @@ def _hopeless(failed: Failures, generation: int) -> str:
         f"{failed.share:.0%} of the commands of generation {generation}'s verified trials "
         f"failed, most often: {failed.most_common}; the body may not be able to move (`qdsega "
         "assemble` checks that its joints reach their levels)"
+    )
+
+
+def table_misses(metrics: np.ndarray) -> int:
+    """How many of the last generations in a row (``metrics.csv``'s rows) the learner's model
+    mispredicted the greedy policy's exact distance by more than ``PREDICTION_TOLERANCE``."""
+    misses = 0
+    for row in metrics[::-1]:
+        error = _relative_error(float(row[_GREEDY]), float(row[_GREEDY_EXACT]))
+        if error is None or abs(error) <= PREDICTION_TOLERANCE:
+            break
+        misses += 1
+    return misses
+
+
+def _unheld(metrics: np.ndarray) -> str:
+    """The one-line warning for a memo run whose table keeps mispredicting."""
+    last = metrics[-MISSES_TO_WARN:]
+    errors = [_relative_error(float(r[_GREEDY]), float(r[_GREEDY_EXACT])) for r in last]
+    shown = ", ".join(f"{e:+.0%}" for e in errors if e is not None)
+    first, end = int(last[0, 0]), int(last[-1, 0])
+    return (
+        f"generations {first}-{end}: the table's predictions were off exact physics by "
+        f"{shown} (more than {PREDICTION_TOLERANCE:.0%}): it does not hold where this run goes "
+        "(varied ground: docs/worlds.md); the run is judged in exact physics"
     )
 
 

@@ -16,6 +16,7 @@ model and its exact twin.
 from __future__ import annotations
 
 import re
+import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING
@@ -28,7 +29,7 @@ from qdsega.agent.model import StepModel, TransitionProvider
 from qdsega.agent.policy import Policy, Rollout
 from qdsega.agent.verification import Verification
 from qdsega.description import Formation, World
-from qdsega.errors import ConfigError, FormationError
+from qdsega.errors import ConfigError, FormationError, QdsegaWarning
 from qdsega.msm import LegLayout, MinimalSimulationModel, Optimum, msm_optimum
 from qdsega.progress import ProgressFactory
 from qdsega.task import Task
@@ -239,8 +240,12 @@ def build_sim(
         env = rules_env(formation, rules)
         return TrainingSim(EnvModel(env=env), None, None, task, None, layout, world=rules.world)
     from qdsega.locomotion.exact_trials import ExactTrials
-    from qdsega.locomotion.memo import MeasuredTransitions, spots_toward
+    from qdsega.locomotion.memo import MeasuredTransitions, blocked_spots, spots_toward
 
+    spots = spots_toward(tuple(task.light), memo_spots(config, rules.world))
+    blocked = blocked_spots(formation, physics=config.physics, world=rules.world, spots=spots)
+    if blocked and not (run / RunFolder.TRANSITIONS).is_file():  # said once, when it begins
+        warnings.warn(_blocked(formation, rules.world, spots, blocked), QdsegaWarning, 2)
     memo = MeasuredTransitions(
         formation=formation,
         lower_agent=config.lower_agent,
@@ -249,7 +254,7 @@ def build_sim(
         ray=config.ray,
         progress=measuring,
         world=rules.world,
-        spots=spots_toward(tuple(task.light), memo_spots(config, rules.world)),
+        spots=spots,
     )
     if (run / RunFolder.TRANSITIONS).is_file():
         memo.load(run / RunFolder.TRANSITIONS)
@@ -275,6 +280,23 @@ def build_verification(config: TrainingConfig) -> Verification:
         local_search=config.local_search,
         phase_moves=config.phase_moves,
         seed=config.seed,
+    )
+
+
+def _blocked(
+    formation: Formation,
+    world: World,
+    spots: tuple[tuple[float, float], ...],
+    blocked: list[tuple[float, float]],
+) -> str:
+    """The one-line warning for a memo run with starts the body cannot stand at."""
+    where = ", ".join(f"({x:.2f}, {y:.2f})" for x, y in blocked)
+    return (
+        f"{formation.name} cannot stand at {len(blocked)} of the {len(spots)} places memo mode "
+        f"measures each move from in {world.name} (x, y m: {where}; inside an obstacle): every "
+        "move fails there, so the table starts with every move failed and only exact replays "
+        "correct it; --sim pybullet learns in exact physics, or `qdsega match` finds a body "
+        "that fits"
     )
 
 

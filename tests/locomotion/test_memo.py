@@ -3,17 +3,19 @@ import io
 import numpy as np
 import pytest
 
-from qdsega.description import load_formation
+from qdsega.description import load_formation, resolve_formation, resolve_world
 from qdsega.description.world import load_world
 from qdsega.locomotion.lower_agent import LowerAgentConfig
 from qdsega.locomotion.memo import (
     PROGRESS_DELAY_S,
     SPOT_SPACING_M,
     MeasuredTransitions,
+    blocked_spots,
     spots_toward,
 )
 from qdsega.progress import ProgressLine
 from qdsega.simulation.settings import PhysicsSettings
+from qdsega.training.sims import _blocked
 
 
 @pytest.fixture(scope="module")
@@ -148,3 +150,14 @@ def test_spots_lie_toward_the_light():
     assert x == pytest.approx(0.0, abs=1e-12) and y == pytest.approx(-SPOT_SPACING_M)
     with pytest.raises(ValueError, match="at least 1"):
         spots_toward((1.0, 0.0), 0)
+
+
+def test_the_starts_a_body_cannot_stand_at_are_found_and_said_in_one_line():
+    tunnel = load_world(resolve_world("tunnel"))
+    quadruped = tunnel.lights(load_formation(resolve_formation("quadruped")))
+    spots = spots_toward(tuple(quadruped.light.position_m), 6)
+    blocked = blocked_spots(quadruped, physics=PhysicsSettings(), world=tunnel, spots=spots)
+    assert blocked == list(spots[2:])  # the roof begins between 0.25 and 0.5 m: too low for it
+    line = _blocked(quadruped, tunnel, spots, blocked)
+    assert "cannot stand at 4 of the 6 places" in line and "\n" not in line
+    assert blocked_spots(quadruped, physics=PhysicsSettings(), world=tunnel, spots=spots[:1]) == []
