@@ -216,8 +216,9 @@ def blocked_spots(
     world: World,
     spots: tuple[tuple[float, float], ...],
 ) -> list[tuple[float, float]]:
-    """The spots where the body cannot stand at rest (it would be inside an obstacle): every
-    move measured from one fails, and so, in the table, every move."""
+    """The spots where the body cannot stand at rest (it would be inside an obstacle): no move
+    is made from there, so training leaves them out (every move measured from one would fail,
+    and so, in the table, every move)."""
     if len(spots) == 1:
         return []  # the origin: training refuses a start inside before it gets here
     blocked = []

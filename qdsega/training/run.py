@@ -50,7 +50,6 @@ from qdsega.training.sims import (
     build_verification,
     check_sim,
     leg_states,
-    memo_spots,
 )
 
 PREDICTION_TOLERANCE = 0.10
@@ -580,7 +579,7 @@ def _finish(
         "formation": formation.name,
         **read_formation_record(folder.path).summary(),
         "world": sim.world.name,
-        "memo_spots": memo_spots(config, sim.world) if config.sim == "memo" else None,
+        "memo_spots": sim.memo_spots(),
         "world_sha256": world_sha256(folder.path),
         "sim": config.sim,
         "preset": config.preset,

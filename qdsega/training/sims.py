@@ -134,6 +134,13 @@ class TrainingSim:
             for trial in trials:
                 self.grounded.observe(trial, start)
 
+    def memo_spots(self) -> int | None:
+        """How many places memo mode measures each move from (those the body can stand at);
+        None for other simulators."""
+        memo = self.grounded.base if self.grounded is not None else self.provider
+        spots = getattr(memo, "spots", None)
+        return None if spots is None else len(spots)
+
     def simulated_steps(self) -> int:
         """Upper-agent steps simulated in PyBullet by this simulator so far: memo transitions
         measured (each one move from a settled start), exact trials' commands, and every
@@ -246,6 +253,7 @@ def build_sim(
     blocked = blocked_spots(formation, physics=config.physics, world=rules.world, spots=spots)
     if blocked and not (run / RunFolder.TRANSITIONS).is_file():  # said once, when it begins
         warnings.warn(_blocked(formation, rules.world, spots, blocked), QdsegaWarning, 2)
+    spots = tuple(spot for spot in spots if spot not in blocked)  # no move is made there
     memo = MeasuredTransitions(
         formation=formation,
         lower_agent=config.lower_agent,
@@ -293,10 +301,9 @@ def _blocked(
     where = ", ".join(f"({x:.2f}, {y:.2f})" for x, y in blocked)
     return (
         f"{formation.name} cannot stand at {len(blocked)} of the {len(spots)} places memo mode "
-        f"measures each move from in {world.name} (x, y m: {where}; inside an obstacle): every "
-        "move fails there, so the table starts with every move failed and only exact replays "
-        "correct it; --sim pybullet learns in exact physics, or `qdsega match` finds a body "
-        "that fits"
+        f"measures each move from in {world.name} (x, y m: {where}; inside an obstacle): the "
+        f"table measures its moves from the other {len(spots) - len(blocked)}, and exact "
+        "replays show where the body is stopped"
     )
 
 

@@ -5,6 +5,7 @@ import pytest
 
 from qdsega.description import load_formation, resolve_formation, resolve_world
 from qdsega.description.world import load_world
+from qdsega.errors import QdsegaWarning
 from qdsega.locomotion.lower_agent import LowerAgentConfig
 from qdsega.locomotion.memo import (
     PROGRESS_DELAY_S,
@@ -159,5 +160,21 @@ def test_the_starts_a_body_cannot_stand_at_are_found_and_said_in_one_line():
     blocked = blocked_spots(quadruped, physics=PhysicsSettings(), world=tunnel, spots=spots)
     assert blocked == list(spots[2:])  # the roof begins between 0.25 and 0.5 m: too low for it
     line = _blocked(quadruped, tunnel, spots, blocked)
-    assert "cannot stand at 4 of the 6 places" in line and "\n" not in line
+    assert "cannot stand at 4 of the 6 places" in line and "from the other 2" in line
+    assert "\n" not in line
     assert blocked_spots(quadruped, physics=PhysicsSettings(), world=tunnel, spots=spots[:1]) == []
+
+
+def test_training_measures_moves_only_where_the_body_can_stand(tmp_path):
+    from qdsega.training.config import TrainingConfig
+    from qdsega.training.sims import build_sim
+
+    tunnel = load_world(resolve_world("tunnel"))
+    quadruped = tunnel.lights(load_formation(resolve_formation("quadruped")))
+    with pytest.warns(QdsegaWarning, match="cannot stand at 4 of the 6 places"):
+        sim = build_sim(quadruped, TrainingConfig(sim="memo", workers=1), tmp_path, world=tunnel)
+    try:
+        assert sim.grounded is not None
+        assert sim.grounded.base.spots == spots_toward(tuple(quadruped.light.position_m), 2)
+    finally:
+        sim.close()
