@@ -19,7 +19,6 @@ Bad input is one line on stderr and exit status 2.
 from __future__ import annotations
 
 import argparse
-import io
 import json
 import shutil
 import subprocess
@@ -34,12 +33,14 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt
+import numpy as np
 from matplotlib.patches import FancyArrowPatch, FancyBboxPatch
 from matplotlib.path import Path as MplPath
 from PIL import Image
 
 from qdsega.adaptation.folders import AdaptationFolder
 from qdsega.analysis.adaptation_plots import adaptation_curve, archive_heat_map
+from qdsega.analysis.pictures import figure_pixels, save_png
 from qdsega.errors import QdsegaError, RunFolderError
 from qdsega.training.run_folder import RunFolder
 
@@ -184,12 +185,8 @@ def _arrow(
 
 def _save(fig: plt.Figure, out: Path) -> Path:
     """Write ``fig`` to ``out`` as a PNG of at most ``COLOURS`` colours, and close it."""
-    out.parent.mkdir(parents=True, exist_ok=True)
-    buffer = io.BytesIO()
-    fig.savefig(buffer, format="png", dpi=DPI)
-    plt.close(fig)
-    Image.open(buffer).convert("RGB").quantize(COLOURS).save(out, optimize=True)
-    return out
+    pixels = figure_pixels(fig, dpi=DPI)
+    return save_png(pixels, out, colours=COLOURS, method=Image.Quantize.MEDIANCUT)
 
 
 def draw_loop(out: Path) -> Path:
@@ -406,8 +403,8 @@ def screenshot(page: Path, out: Path, *, chromium: str, window: tuple[int, int] 
         if done.returncode != 0 or not shot.is_file():
             last = (done.stderr.strip().splitlines() or ["no message"])[-1]
             raise RuntimeError(f"{chromium} exited {done.returncode} without a picture: {last}")
-        out.parent.mkdir(parents=True, exist_ok=True)
-        Image.open(shot).convert("RGB").quantize(256).save(out, optimize=True)
+        pixels = np.asarray(Image.open(shot).convert("RGB"))
+        save_png(pixels, out, colours=256, method=Image.Quantize.MEDIANCUT)
     return out
 
 

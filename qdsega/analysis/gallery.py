@@ -5,7 +5,6 @@ leg in each of its four states. ``qdsega gallery`` draws them; ``docs/gallery.md
 
 from __future__ import annotations
 
-import io
 import math
 import xml.etree.ElementTree as ET
 from collections.abc import Sequence
@@ -19,11 +18,10 @@ import matplotlib.pyplot as plt
 import numpy as np
 from matplotlib.figure import Figure
 from mpl_toolkits.mplot3d.art3d import Poly3DCollection
-from PIL import Image
 
+from qdsega.analysis.pictures import figure_pixels, save_png
 from qdsega.analysis.render import rest_still
 from qdsega.assembly.mass_properties import shape_mesh
-from qdsega.atomic import replaced_atomically
 from qdsega.description import Formation, UnitType, World, load_formation, resolve_formation
 from qdsega.description.unit_type import LINK_PLACEHOLDER
 from qdsega.errors import WorldError
@@ -179,7 +177,7 @@ def leg_states(camera: CameraConfig) -> np.ndarray:
     finally:
         env.close()
     title = f"{body.name}'s leg {leg.name} (red) in each leg state; the body heads to the left"
-    return _figure_pixels(contact_sheet(pictures, title, columns=2))
+    return figure_pixels(contact_sheet(pictures, title, columns=2))
 
 
 def unit_diagram(unit: UnitType) -> Figure:
@@ -302,21 +300,8 @@ def _group(stills: list[tuple[str, str, np.ndarray]], folder: Path, title: str) 
 
 
 def _save_figure(figure: Figure, file: Path) -> Path:
-    return _save_png(_figure_pixels(figure), file)
-
-
-def _figure_pixels(figure: Figure) -> np.ndarray:
-    """A matplotlib figure as (height, width, 3) uint8; the figure is closed."""
-    buffer = io.BytesIO()
-    figure.savefig(buffer, format="png", facecolor="white")
-    plt.close(figure)
-    return np.asarray(Image.open(buffer).convert("RGB"))
+    return _save_png(figure_pixels(figure), file)
 
 
 def _save_png(picture: np.ndarray, file: Path) -> Path:
-    """Write ``picture`` (height, width, 3) uint8 as a PNG of ``PNG_COLOURS`` colours."""
-    file.parent.mkdir(parents=True, exist_ok=True)
-    image = Image.fromarray(picture).quantize(PNG_COLOURS, method=Image.Quantize.MAXCOVERAGE)
-    with replaced_atomically(file) as partial:
-        image.save(partial, format="PNG", optimize=True)
-    return file
+    return save_png(picture, file, colours=PNG_COLOURS)
