@@ -11,7 +11,10 @@ kernels:
   ends the trial (eq. (1) without its future term);
 * **exterior state**: the bin of the angle from the heading to the light. The paper's "four
   states from -45 to 45 deg each 30 deg" is read as edges -45, -15, 15, 45 deg: three 30-deg
-  bins ahead (straight ahead, -15..15 deg, a bin of its own) and state 0 for "outside";
+  bins ahead (straight ahead, -15..15 deg, a bin of its own) and state 0 for "outside". In a
+  world with obstacles, times what the body senses ahead (:mod:`qdsega.obstacle_map`):
+  ``light_bin + n_light_bins * sensed``;
+* **obstacles**: a table move that would carry the body into an obstacle fails;
 * **pose integration**: a step's move is measured in the body frame at its start (forward
   ``dx`` m, leftward ``dy`` m, turn ``dtheta`` rad) and applied to the world pose (eqs.
   (14)-(16), with ``dy`` added for bodies that also slip sideways).
@@ -30,6 +33,7 @@ import numpy as np
 from numba import njit
 
 from qdsega.jit import njit_no_refcount
+from qdsega.obstacle_map import SENSED_STATES, ObstacleMap, fan_rad, sensed_state, touches
 
 Pose = tuple[float, float, float]
 """A planar pose: x (m), y (m), heading (rad, counter-clockwise from +x)."""
@@ -84,9 +88,16 @@ class Task:
     Args:
         config: the rules.
         light_xy: light position in the world frame (m).
+        obstacles: what stands in the way, or None (nothing does).
     """
 
-    def __init__(self, *, config: TaskConfig, light_xy: Sequence[float]) -> None:
+    def __init__(
+        self,
+        *,
+        config: TaskConfig,
+        light_xy: Sequence[float],
+        obstacles: ObstacleMap | None = None,
+    ) -> None:
         light = np.asarray(light_xy, dtype=np.float64)
         if light.shape != (2,) or not np.all(np.isfinite(light)):
             raise ValueError(f"light_xy must be two finite numbers, got {light_xy!r}")
@@ -94,12 +105,20 @@ class Task:
         self.light = light
         """Light position (x, y) (m), shape (2,)."""
         self.edges = np.radians(np.asarray(config.exterior_bin_edges_deg, dtype=np.float64))
-        """Exterior bin edges (rad), shape (n_exterior,)."""
+        """The light's bin edges (rad), shape (n_light_bins,)."""
+        self.obstacles = obstacles
 
     @property
     def n_exterior(self) -> int:
-        """Exterior states."""
-        return len(self.edges)
+        """Exterior states: the light's bins, times the sensed states where obstacles are."""
+        return len(self.edges) * (1 if self.obstacles is None else SENSED_STATES)
+
+    def map_arrays(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """The obstacles as the compiled rules take them: the grown footprints, the map's
+        geometry and the rays' directions; an empty grid where nothing stands."""
+        if self.obstacles is None:
+            return np.zeros((0, 0), dtype=np.bool_), np.zeros(4), fan_rad()
+        return self.obstacles.blocked, self.obstacles.geometry(), fan_rad()
 
     @property
     def trial_steps(self) -> int:
@@ -119,17 +138,23 @@ class Task:
 
     def move(
         self, pose: Pose, dx: float, dy: float, dtheta: float, failed: bool
-    ) -> tuple[Pose, float]:
-        """One table step: a body-frame move from ``pose``, or a failure (the pose stays);
-        the new pose and the step's reward (eq. 17, or the penalty)."""
+    ) -> tuple[Pose, float, bool]:
+        """One table step: a body-frame move from ``pose``, or a failure (the pose stays; a
+        move into an obstacle fails too); the new pose, the step's reward (eq. 17, or the
+        penalty) and whether it failed."""
         if failed:
-            return pose, self.penalty
+            return pose, self.penalty, True
         after = move_pose(*pose, dx, dy, dtheta)
-        return after, self.reward(pose, after)
+        if self.obstacles is not None and self.obstacles.touches(after[0], after[1]):
+            return pose, self.penalty, True
+        return after, self.reward(pose, after), False
 
     def exterior(self, pose: Pose) -> int:
         """Exterior state of a pose."""
-        return exterior_state(pose[0], pose[1], pose[2], self.light[0], self.light[1], self.edges)
+        light = exterior_state(pose[0], pose[1], pose[2], self.light[0], self.light[1], self.edges)
+        if self.obstacles is None:
+            return light
+        return light + len(self.edges) * self.obstacles.sensed(*pose)
 
     def covered(self, start: Pose, pose: Pose) -> float:
         """Distance toward the light gained from ``start`` to ``pose`` (m)."""
@@ -221,6 +246,30 @@ def exterior_state_ahead(
         if cross > 0.0:
             passed += 1
     return 0 if passed == n else passed
+
+
+@njit_no_refcount()
+def sensed_exterior(
+    light_state: int,
+    n_light: int,
+    blocked: np.ndarray,
+    geometry: np.ndarray,
+    fan: np.ndarray,
+    x: float,
+    y: float,
+    theta: float,
+) -> int:
+    """The exterior state from the light's bin and what the body senses ahead (an empty
+    ``blocked`` grid: nothing stands in the world, the light's bin alone)."""
+    if blocked.shape[0] == 0:
+        return light_state
+    return light_state + n_light * sensed_state(blocked, geometry, fan, x, y, theta)
+
+
+@njit_no_refcount()
+def stopped(blocked: np.ndarray, geometry: np.ndarray, x: float, y: float) -> bool:
+    """A move that ends at (x, y) (m) runs into an obstacle (never without a map)."""
+    return blocked.shape[0] > 0 and touches(blocked, geometry, x, y)
 
 
 @njit(cache=True)

@@ -335,6 +335,7 @@ class QDSEGA:
                 space.next_interior,
                 task.light,
                 task.edges,
+                *task.map_arrays(),
                 learning.trials,
                 task.trial_steps,
                 learning.alpha,

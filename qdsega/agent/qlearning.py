@@ -34,12 +34,15 @@ from qdsega.agent.boltzmann import (
     temperature,
 )
 from qdsega.jit import njit_no_refcount
+from qdsega.obstacle_map import SENSED_STATES
 from qdsega.task import (
     edge_directions,
     exterior_state,
     exterior_state_ahead,
     move_position,
+    sensed_exterior,
     step_reward,
+    stopped,
 )
 
 
@@ -157,6 +160,9 @@ def learn_on_table(
     next_interior: np.ndarray,
     light: np.ndarray,
     edges: np.ndarray,
+    blocked: np.ndarray,
+    geometry: np.ndarray,
+    fan: np.ndarray,
     trials: int,
     trial_steps: int,
     alpha: float,
@@ -184,7 +190,10 @@ def learn_on_table(
             shape (N, A), node 0 a trial's start; the move into each node, shape (N,).
         next_interior: interior state each action leads to, shape (A,).
         light: light position (x, y) (m).
-        edges: exterior bin edges (rad), shape (n_exterior,).
+        edges: the light's bin edges (rad), shape (n_light,).
+        blocked, geometry, fan: the obstacles (:meth:`qdsega.task.Task.map_arrays`): an
+            empty grid where nothing stands; else the exterior states are the light's bins
+            times the sensed states.
         trials, trial_steps: trials of this generation and commands per trial.
         alpha, gamma: eq. (1).
         temperature_params: (scale, rate, offset) of eq. (18).
@@ -197,7 +206,8 @@ def learn_on_table(
     Returns:
         The number of steps (commands) taken.
     """
-    n_exterior = edges.shape[0]
+    n_light = edges.shape[0]
+    n_exterior = n_light * (1 if blocked.shape[0] == 0 else SENSED_STATES)
     n_interior = dx.shape[0]
     scratch, weights = np.empty(q.shape[1]), np.empty(q.shape[1])
     bits = np.empty(q.shape[1], dtype=np.int64)
@@ -221,7 +231,10 @@ def learn_on_table(
         x, y, theta, cos_theta, sin_theta = 0.0, 0.0, 0.0, 1.0, 0.0
         d = d_start
         previous, interior, node = -1, 0, 0
-        exterior = exterior_state(x, y, theta, light_x, light_y, edges)
+        exterior = sensed_exterior(
+            exterior_state(x, y, theta, light_x, light_y, edges),
+            n_light, blocked, geometry, fan, x, y, theta,
+        )  # fmt: skip
         fell[trial] = False
         for _ in range(trial_steps):
             s = interior * n_exterior + exterior
@@ -241,19 +254,26 @@ def learn_on_table(
                 else:
                     fails = context_failed[r, a]
                     mx, my, mt = context_dx[r, a], context_dy[r, a], context_dtheta[r, a]
+            x_new, y_new = x, y
+            if not fails:
+                x_new, y_new = move_position(x, y, cos_theta, sin_theta, mx, my)
+                fails = stopped(blocked, geometry, x_new, y_new)
             if fails:
                 q[s, a] = (1.0 - alpha) * old + alpha * penalty
                 _update_stats(s, a, q[s, a], stats, arg)
                 fell[trial] = True
                 break
-            x, y = move_position(x, y, cos_theta, sin_theta, mx, my)
+            x, y = x_new, y_new
             theta += mt
             cos_theta, sin_theta = math.cos(theta), math.sin(theta)
             d_new = math.hypot(light_x - x, light_y - y)
             previous, interior = interior, next_interior[a]
-            exterior = exterior_state_ahead(
-                x, y, theta, cos_theta, sin_theta, light_x, light_y, edges, directions
-            )
+            exterior = sensed_exterior(
+                exterior_state_ahead(
+                    x, y, theta, cos_theta, sin_theta, light_x, light_y, edges, directions
+                ),
+                n_light, blocked, geometry, fan, x, y, theta,
+            )  # fmt: skip
             best_next = _row_top(q, interior * n_exterior + exterior, stats, arg)
             q[s, a] = q_update(old, step_reward(d, d_new, reward_per_m), best_next, alpha, gamma)
             _update_stats(s, a, q[s, a], stats, arg)

@@ -53,7 +53,7 @@ class TableModel:
         dx, dy, dtheta, failed, self._node = self.table.move(
             self._node, self._previous, self._interior, a
         )
-        self._pose, reward = self.task.move(self._pose, dx, dy, dtheta, failed)
+        self._pose, reward, failed = self.task.move(self._pose, dx, dy, dtheta, failed)
         if not failed:
             self._previous, self._interior = self._interior, int(self.space.next_interior[a])
         return StepResult(reward, self.task.exterior(self._pose), failed)

@@ -183,6 +183,23 @@ class World:
         return World(**{**self.__dict__, "light": light})
 
 
+def corridor_walls(corridor: Corridor) -> tuple[Box, Box]:
+    """The corridor's two walls as boxes (their centres' heights above z = 0): 5 cm thick,
+    from 1 m behind the start to ``length_m``."""
+    thickness, length = 0.05, corridor.length_m + 1.0
+    x, z = corridor.length_m - length / 2, corridor.height_m / 2
+    size = (length, thickness, corridor.height_m)
+    y = corridor.width_m / 2 + thickness / 2
+    return (Box((x, -y, z), size, 0.0), Box((x, y, z), size, 0.0))
+
+
+def standing_boxes(world: World) -> tuple[Box, ...]:
+    """What stands on ``world``'s ground for a body to go around: its boxes and walls (a roof
+    is overhead, steps and rough ground are climbed)."""
+    walls = () if world.corridor is None else corridor_walls(world.corridor)
+    return world.boxes + walls
+
+
 def load_world(file: Path | str) -> World:
     """Read and validate a world file.
 

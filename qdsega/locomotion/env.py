@@ -49,10 +49,11 @@ from qdsega.description import (
 from qdsega.errors import QdsegaWarning, WorldError
 from qdsega.locomotion.lower_agent import SETTLE_S, LowerAgent, LowerAgentConfig
 from qdsega.locomotion.rules import ExactRules
+from qdsega.locomotion.surroundings import world_task
 from qdsega.simulation import PhysicsSettings
 from qdsega.simulation.bullet import BulletSimulation
 from qdsega.simulation.camera import LIGHT_RADIUS_FRACTION, CameraConfig, body_extent_m
-from qdsega.task import Pose, Task, TaskConfig, move_pose, relative_move
+from qdsega.task import Pose, TaskConfig, move_pose, relative_move
 
 
 class LocomotionEnv(gym.Env[np.ndarray, np.ndarray]):
@@ -100,7 +101,8 @@ class LocomotionEnv(gym.Env[np.ndarray, np.ndarray]):
         self.formation = formation
         self.render_mode = render_mode
         self.camera = camera or CameraConfig()
-        self.task = Task(config=task or TaskConfig(), light_xy=formation.light.position_m)
+        physics = physics or PhysicsSettings()
+        self.task = world_task(formation, task or TaskConfig(), self.world, physics)
         if not formation.joints:
             raise ValueError(f"{formation.name} has no actuated joint to command")
         self.start_levels = np.array(start_levels or formation.rest_levels(), dtype=np.int64)

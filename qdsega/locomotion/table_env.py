@@ -94,9 +94,8 @@ class TableLocomotionEnv(gym.Env[np.ndarray, np.ndarray]):
         move = self.provider.transitions(self._posture[None, :], levels[None, :])
         self._steps += 1
         self._posture = levels.copy()
-        failed = bool(move.failed[0, 0])
-        self._pose, reward = self.task.move(
-            self._pose, move.dx[0, 0], move.dy[0, 0], move.dtheta[0, 0], failed
+        self._pose, reward, failed = self.task.move(
+            self._pose, move.dx[0, 0], move.dy[0, 0], move.dtheta[0, 0], bool(move.failed[0, 0])
         )
         truncated = not failed and self._steps >= self.task.trial_steps
         return self._observation(), float(reward), failed, truncated, self._info()

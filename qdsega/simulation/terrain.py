@@ -17,7 +17,7 @@ from typing import Any
 import imageio.v3 as iio
 import numpy as np
 
-from qdsega.description.world import CELL_M, Box, Rough, World
+from qdsega.description.world import CELL_M, Box, Rough, World, corridor_walls
 
 GROUND_RGBA = (0.55, 0.5, 0.45, 1.0)
 OBSTACLE_RGBA = (0.6, 0.6, 0.62, 1.0)
@@ -76,13 +76,10 @@ def build_terrain(
     for box in world.boxes:
         terrain.obstacles.append(_placed(client, pybullet, box, world))
     if world.corridor is not None:
-        wall = world.corridor
-        length = wall.length_m + 1.0
-        for side in (-1.0, 1.0):
-            y = side * (wall.width_m / 2 + 0.025)
-            centre = (wall.length_m - length / 2, y, wall.height_m / 2)
-            size = (length, 0.05, wall.height_m)
-            terrain.obstacles.append(_box(client, pybullet, centre, size, 0.0, OBSTACLE_RGBA))
+        for wall in corridor_walls(world.corridor):
+            terrain.obstacles.append(
+                _box(client, pybullet, wall.xyz_m, wall.size_m, wall.yaw_rad, OBSTACLE_RGBA)
+            )
     if world.ceiling is not None:
         roof = world.ceiling
         length = roof.to_m - roof.from_m

@@ -29,7 +29,7 @@ from qdsega.agent.model import StepModel, TransitionProvider
 from qdsega.agent.policy import Policy, Rollout
 from qdsega.agent.verification import Verification
 from qdsega.description import Formation, World
-from qdsega.errors import ConfigError, FormationError, QdsegaWarning
+from qdsega.errors import ConfigError, FormationError, QdsegaWarning, WorldError
 from qdsega.msm import LegLayout, MinimalSimulationModel, Optimum, msm_optimum
 from qdsega.progress import ProgressFactory
 from qdsega.task import Task
@@ -245,12 +245,18 @@ def build_sim(
 
     if config.sim == "pybullet":
         env = rules_env(formation, rules)
-        return TrainingSim(EnvModel(env=env), None, None, task, None, layout, world=rules.world)
+        return TrainingSim(EnvModel(env=env), None, None, env.task, None, layout, world=rules.world)
     from qdsega.locomotion.exact_trials import ExactTrials
     from qdsega.locomotion.memo import MeasuredTransitions, blocked_spots, spots_toward
+    from qdsega.locomotion.surroundings import world_task
 
+    task = world_task(formation, config.task, rules.world, config.physics)
     spots = spots_toward(tuple(task.light), memo_spots(config, rules.world))
     blocked = blocked_spots(formation, physics=config.physics, world=rules.world, spots=spots)
+    if task.obstacles is not None:  # the map knows the obstacles: moves are measured clear of them
+        blocked += [s for s in spots if s not in blocked and task.obstacles.touches(*s)]
+    if len(blocked) == len(spots):
+        raise WorldError(_every_spot_blocked(formation, rules.world, spots))
     if blocked and not (run / RunFolder.TRANSITIONS).is_file():  # said once, when it begins
         warnings.warn(_blocked(formation, rules.world, spots, blocked), QdsegaWarning, 2)
     spots = tuple(spot for spot in spots if spot not in blocked)  # no move is made there
@@ -300,10 +306,22 @@ def _blocked(
     """The one-line warning for a memo run with starts the body cannot stand at."""
     where = ", ".join(f"({x:.2f}, {y:.2f})" for x, y in blocked)
     return (
-        f"{formation.name} cannot stand at {len(blocked)} of the {len(spots)} places memo mode "
-        f"measures each move from in {world.name} (x, y m: {where}; inside an obstacle): the "
-        f"table measures its moves from the other {len(spots) - len(blocked)}, and exact "
-        "replays show where the body is stopped"
+        f"{formation.name} cannot stand clear of obstacles at {len(blocked)} of the "
+        f"{len(spots)} places memo mode measures each move from in {world.name} (x, y m: "
+        f"{where}): the table measures its moves from the other {len(spots) - len(blocked)}, "
+        "and exact replays show where the body is stopped"
+    )
+
+
+def _every_spot_blocked(
+    formation: Formation, world: World, spots: tuple[tuple[float, float], ...]
+) -> str:
+    """The one-line refusal where no place memo mode measures from is clear of obstacles."""
+    end = spots[-1]
+    return (
+        f"{formation.name} touches an obstacle of {world.name} at every place memo mode "
+        f"measures its moves from (from the start to ({end[0]:.2f}, {end[1]:.2f}) m): clear "
+        "the way ahead of the start, or learn with --sim pybullet"
     )
 
 

@@ -18,9 +18,11 @@ from qdsega.agent.boltzmann import (
 )
 from qdsega.agent.model import Transitions
 from qdsega.agent.qlearning import _choose, _update_stats, learn_on_table, q_update
-from qdsega.task import exterior_state
+from qdsega.task import Task, TaskConfig, exterior_state
 
 EDGES = np.radians([-45.0, -15.0, 15.0, 45.0])
+NO_MAP = Task(config=TaskConfig(), light_xy=(1.0, 0.0)).map_arrays()
+"""A world with nothing standing in it."""
 
 
 def test_eq1_update():
@@ -91,7 +93,7 @@ def test_compiled_loop_learns_a_two_action_chain():
     steps = learn_on_table(
         q, *Transitions(dx=dx, dy=zeros, dtheta=zeros, failed=failed).compiled(),
         np.array([1, 0]), np.array([100.0, 0.0]),
-        EDGES, 300, 3, 0.5, 0.9,
+        EDGES, *NO_MAP, 300, 3, 0.5, 0.9,
         np.array([150.0, 0.002, 1.0]), 100.0, -100.0, np.random.default_rng(1),
         uses, distances, fell,
     )  # fmt: skip
@@ -176,7 +178,7 @@ def test_compiled_loop_equals_a_plain_reference(rate: float, n_actions: int):
     distances, fell = np.zeros(400), np.zeros(400, dtype=np.bool_)
     learn_on_table(
         q, *Transitions(dx=dx, dy=np.zeros_like(dx), dtheta=dtheta, failed=failed).compiled(),
-        next_interior, light, edges, 400, 8, 0.5, 0.9, np.array([150.0, rate, 1.0]), 100.0,
+        next_interior, light, edges, *NO_MAP, 400, 8, 0.5, 0.9, np.array([150.0, rate, 1.0]), 100.0,
         -100.0, np.random.default_rng(3), uses, distances, fell,
     )  # fmt: skip
     assert fell.any() and not fell.all()

@@ -34,7 +34,8 @@ def _learn(world, q, space, task, trials, schedule, alpha, gamma, rng):
     distances, fell = np.zeros(trials), np.zeros(trials, dtype=np.bool_)
     if isinstance(world, Transitions):
         steps = learn_on_table(
-            q, *world.compiled(), space.next_interior, task.light, task.edges, trials,
+            q, *world.compiled(), space.next_interior, task.light, task.edges,
+            *task.map_arrays(), trials,
             task.trial_steps, alpha, gamma, schedule, task.config.reward_per_m, task.penalty,
             rng, uses, distances, fell,
         )  # fmt: skip

@@ -67,7 +67,8 @@ def test_the_env_gives_the_compiled_loops_rewards_for_the_same_postures():
         q[s, a] = 1e6
     uses = np.zeros(space.n_actions, dtype=np.int64)
     steps = learn_on_table(
-        q, *table.compiled(), space.next_interior, task.light, task.edges, 1, task.trial_steps,
+        q, *table.compiled(), space.next_interior, task.light, task.edges,
+        *task.map_arrays(), 1, task.trial_steps,
         1.0, 0.0, GREEDY, task.config.reward_per_m, task.penalty, np.random.default_rng(0), uses,
         np.zeros(1), np.zeros(1, dtype=np.bool_),
     )  # fmt: skip
