@@ -91,8 +91,9 @@ def test_a_move_into_an_obstacle_fails():
 
 
 def test_the_compiled_loop_and_the_python_walk_meet_the_same_post():
-    """Forced along the same commands (a greedy, alpha 1, gamma 0 walk; each state has one
-    command), the compiled loop writes the rewards, sensed states and the failure at the post that the Python walk gives."""
+    """Forced along the same commands (a greedy, alpha 1, gamma 0 walk; one command for each
+    state), the compiled loop writes the rewards, sensed states and the failure at the post
+    that the Python walk gives."""
     task = Task(config=TaskConfig(trial_steps=20), light_xy=(50.0, 0.0), obstacles=_map(POST))
     postures = np.array([[0], [1], [2]])
     space = ExplorationSpace.from_population(postures, postures[0])
@@ -105,7 +106,7 @@ def test_the_compiled_loop_and_the_python_walk_meet_the_same_post():
     )
     walk = TableModel(space=space, table=table, task=task)
     exterior, interior, visited, rewards = walk.start_trial(), 0, [], []
-    for t in range(task.trial_steps):
+    for _ in range(task.trial_steps):
         a = (interior + 1) % m  # one command for each state
         result = walk.command(space.actions[a])
         visited.append((interior * task.n_exterior + exterior, a))
