@@ -229,7 +229,7 @@ class QDSEGA:
         self._previous = None
         if state.previous is not None:
             space, q = state.previous
-            self._previous = (space, q.copy())
+            self._previous = (space, self._sensing(space, q))
         elite, self._elite_m = state.elite
         if elite.shape[1:] != (len(self.levels),) or len(elite) > len(self.population) // 2:
             raise ValueError(f"state elite {elite.shape} does not fit this learner")
@@ -238,6 +238,22 @@ class QDSEGA:
         self._elite_path = np.zeros((0, len(self.levels)), dtype=np.int64)
         if path is not None and len(path):
             self._elite_path = np.asarray(path, dtype=np.int64).reshape(-1, len(self.levels))
+
+    def _sensing(self, space: ExplorationSpace, q: np.ndarray) -> np.ndarray:
+        """A copy of ``q`` with this task's exterior states: a table learnt where nothing stood
+        holds for every sensed state; one learnt among obstacles gives its clear state's
+        values where nothing stands (a warm start from another world)."""
+        n_light, n_exterior = len(self.task.edges), self.task.n_exterior
+        rows = q.reshape(space.n_interior, -1, space.n_actions)
+        if rows.shape[1] == n_exterior:
+            return q.copy()
+        if rows.shape[1] == n_light:
+            rows = np.tile(rows, (1, n_exterior // n_light, 1))
+        elif n_exterior == n_light and rows.shape[1] % n_light == 0:
+            rows = rows[:, :n_light]
+        else:
+            raise ValueError(f"state Q-table {q.shape} does not fit {n_exterior} exterior states")
+        return rows.reshape(space.n_interior * n_exterior, space.n_actions).copy()
 
     def _initial_q(self, space: ExplorationSpace) -> np.ndarray:
         """Zeros, or with ``carry_q`` the previous generation's values where the interior

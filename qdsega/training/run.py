@@ -50,6 +50,7 @@ from qdsega.training.sims import (
     build_verification,
     check_sim,
     leg_states,
+    memo_starts,
 )
 
 PREDICTION_TOLERANCE = 0.10
@@ -182,6 +183,8 @@ def _start(
     original = load_formation(formation_file)
     lit = original if world is None else world.lights(original)
     check_sim(config.with_light(lit), config, world)
+    if config.sim == "memo" and world is not None and not world.is_plane:
+        memo_starts(config.with_light(lit), config, world)  # refused before anything is written
     warm = None
     if warm_start is not None:
         warm = (

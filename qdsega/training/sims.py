@@ -247,16 +247,11 @@ def build_sim(
         env = rules_env(formation, rules)
         return TrainingSim(EnvModel(env=env), None, None, env.task, None, layout, world=rules.world)
     from qdsega.locomotion.exact_trials import ExactTrials
-    from qdsega.locomotion.memo import MeasuredTransitions, blocked_spots, spots_toward
+    from qdsega.locomotion.memo import MeasuredTransitions
     from qdsega.locomotion.surroundings import world_task
 
     task = world_task(formation, config.task, rules.world, config.physics)
-    spots = spots_toward(tuple(task.light), memo_spots(config, rules.world))
-    blocked = blocked_spots(formation, physics=config.physics, world=rules.world, spots=spots)
-    if task.obstacles is not None:  # the map knows the obstacles: moves are measured clear of them
-        blocked += [s for s in spots if s not in blocked and task.obstacles.touches(*s)]
-    if len(blocked) == len(spots):
-        raise WorldError(_every_spot_blocked(formation, rules.world, spots))
+    spots, blocked = memo_starts(formation, config, rules.world, task)
     if blocked and not (run / RunFolder.TRANSITIONS).is_file():  # said once, when it begins
         warnings.warn(_blocked(formation, rules.world, spots, blocked), QdsegaWarning, 2)
     spots = tuple(spot for spot in spots if spot not in blocked)  # no move is made there
@@ -276,6 +271,29 @@ def build_sim(
     provider = grounded if grounded is not None else memo
     exact = ExactTrials(formation=formation, rules=rules, workers=config.workers)
     return TrainingSim(provider, exact, grounded, task, None, layout, world=rules.world)
+
+
+def memo_starts(
+    formation: Formation, config: TrainingConfig, world: World, task: Task | None = None
+) -> tuple[tuple[tuple[float, float], ...], list[tuple[float, float]]]:
+    """The places memo mode would measure each move of ``formation`` from in ``world``, and
+    those of them left out: where the body cannot stand, or touches an obstacle (the table
+    knows those from the obstacle map, :mod:`qdsega.obstacle_map`).
+
+    Raises:
+        WorldError: every place is left out (one line).
+    """
+    from qdsega.locomotion.memo import blocked_spots, spots_toward
+    from qdsega.locomotion.surroundings import world_task
+
+    task = task or world_task(formation, config.task, world, config.physics)
+    spots = spots_toward(tuple(task.light), memo_spots(config, world))
+    blocked = blocked_spots(formation, physics=config.physics, world=world, spots=spots)
+    if task.obstacles is not None:
+        blocked += [s for s in spots if s not in blocked and task.obstacles.touches(*s)]
+    if len(blocked) == len(spots):
+        raise WorldError(_every_spot_blocked(formation, world, spots))
+    return spots, blocked
 
 
 def build_verification(config: TrainingConfig) -> Verification:

@@ -71,6 +71,32 @@ def test_restore_refuses_a_state_of_another_shape():
         learner.restore(other)
 
 
+def test_a_table_carries_over_between_worlds_with_and_without_obstacles():
+    """A warm start from another world: a table learnt where nothing stood holds in every
+    sensed state; one learnt among obstacles gives its clear states back."""
+    from qdsega.description import World
+    from qdsega.description.world import Box
+    from qdsega.obstacle_map import SENSED_STATES, ObstacleMap
+
+    plain, _ = _learner(3, 2, 100)
+    plain.step()
+    state = plain.state()
+    posts = World(name="post", boxes=(Box((1.0, 0.0, 0.1), (0.1, 0.1, 0.2), 0.0),))
+    sensing, _ = _learner(3, 2, 100)
+    sensing.task = Task(
+        config=plain.task.config,
+        light_xy=plain.task.light,
+        obstacles=ObstacleMap.of(posts, radius_m=0.2, nose_m=0.2),
+    )
+    sensing.restore(state)
+    space, q = state.previous
+    tiled = sensing.state().previous[1].reshape(space.n_interior, SENSED_STATES, 4, -1)
+    for sensed in range(SENSED_STATES):
+        assert np.array_equal(tiled[:, sensed], q.reshape(space.n_interior, 4, -1))
+    plain.restore(sensing.state())
+    assert np.array_equal(plain.state().previous[1], q)
+
+
 def test_legged12_walks_near_the_optimum_on_a_reduced_budget():
     """The paper's legged preset and MSM defaults, 36 of the 200 generations: seed 4 of the
     reproduction has found its gait (0.968 of the optimum) by generation 28."""

@@ -160,7 +160,8 @@ def test_the_starts_a_body_cannot_stand_at_are_found_and_said_in_one_line():
     blocked = blocked_spots(quadruped, physics=PhysicsSettings(), world=tunnel, spots=spots)
     assert blocked == list(spots[2:])  # the roof begins between 0.25 and 0.5 m: too low for it
     line = _blocked(quadruped, tunnel, spots, blocked)
-    assert "cannot stand at 4 of the 6 places" in line and "from the other 2" in line
+    assert "cannot stand clear of obstacles at 4 of the 6 places" in line
+    assert "from the other 2" in line
     assert "\n" not in line
     assert blocked_spots(quadruped, physics=PhysicsSettings(), world=tunnel, spots=spots[:1]) == []
 
@@ -171,10 +172,35 @@ def test_training_measures_moves_only_where_the_body_can_stand(tmp_path):
 
     tunnel = load_world(resolve_world("tunnel"))
     quadruped = tunnel.lights(load_formation(resolve_formation("quadruped")))
-    with pytest.warns(QdsegaWarning, match="cannot stand at 4 of the 6 places"):
+    with pytest.warns(QdsegaWarning, match="cannot stand clear of obstacles at 4 of the 6 places"):
         sim = build_sim(quadruped, TrainingConfig(sim="memo", workers=1), tmp_path, world=tunnel)
     try:
         assert sim.grounded is not None
         assert sim.grounded.base.spots == spots_toward(tuple(quadruped.light.position_m), 2)
     finally:
         sim.close()
+
+
+def test_training_measures_moves_clear_of_obstacles_and_refuses_where_none_is(tmp_path):
+    """A post on the way: the starts that touch it (the map grows it by the body's half-width)
+    are left out. A long block just ahead of the start: every start touches it, said in one
+    line."""
+    from qdsega.description.world import Box, World
+    from qdsega.errors import WorldError
+    from qdsega.training.config import TrainingConfig
+    from qdsega.training.sims import build_sim
+
+    quadruped = load_formation(resolve_formation("quadruped"))
+    config = TrainingConfig(sim="memo", workers=1)
+    post = World(name="post", boxes=(Box((0.8, 0.0, 0.15), (0.1, 0.1, 0.3), 0.0),))
+    with pytest.warns(QdsegaWarning, match="clear of obstacles at 2 of the 6 places"):
+        sim = build_sim(quadruped, config, tmp_path, world=post)
+    try:
+        assert sim.task.obstacles is not None and sim.task.n_exterior == 12
+        assert sim.grounded is not None
+        assert [x for x, _ in sim.grounded.base.spots] == [0.0, 0.25, 0.5, 1.25]
+    finally:
+        sim.close()
+    block = World(name="block", boxes=(Box((1.26, 0.0, 0.1), (2.1, 1.0, 0.2), 0.0),))
+    with pytest.raises(WorldError, match=r"touches an obstacle of block at every place[^\n]*$"):
+        build_sim(quadruped, config, tmp_path / "block", world=block)
