@@ -113,12 +113,15 @@ class Task:
         """Exterior states: the light's bins, times the sensed states where obstacles are."""
         return len(self.edges) * (1 if self.obstacles is None else SENSED_STATES)
 
-    def map_arrays(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """The obstacles as the compiled rules take them: the grown footprints, the map's
-        geometry and the rays' directions; an empty grid where nothing stands."""
-        if self.obstacles is None:
-            return np.zeros((0, 0), dtype=np.bool_), np.zeros(4), fan_rad()
-        return self.obstacles.blocked, self.obstacles.geometry(), fan_rad()
+    def map_arrays(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """The obstacles as the compiled rules take them (:class:`ObstacleMap`): ``near``,
+        ``ahead``, the geometry, the rays' directions and the body's outline; empty grids
+        where nothing stands."""
+        obstacles = self.obstacles
+        if obstacles is None:
+            empty = np.zeros((0, 0), dtype=np.bool_)
+            return empty, empty, np.zeros(4), fan_rad(), np.zeros((0, 2))
+        return obstacles.near, obstacles.ahead, obstacles.geometry(), fan_rad(), obstacles.outline_m
 
     @property
     def trial_steps(self) -> int:
@@ -145,7 +148,7 @@ class Task:
         if failed:
             return pose, self.penalty, True
         after = move_pose(*pose, dx, dy, dtheta)
-        if self.obstacles is not None and self.obstacles.touches(after[0], after[1]):
+        if self.obstacles is not None and self.obstacles.touches(*after):
             return pose, self.penalty, True
         return after, self.reward(pose, after), False
 
@@ -252,7 +255,7 @@ def exterior_state_ahead(
 def sensed_exterior(
     light_state: int,
     n_light: int,
-    blocked: np.ndarray,
+    ahead: np.ndarray,
     geometry: np.ndarray,
     fan: np.ndarray,
     x: float,
@@ -260,16 +263,19 @@ def sensed_exterior(
     theta: float,
 ) -> int:
     """The exterior state from the light's bin and what the body senses ahead (an empty
-    ``blocked`` grid: nothing stands in the world, the light's bin alone)."""
-    if blocked.shape[0] == 0:
+    ``ahead`` grid: nothing stands in the world, the light's bin alone)."""
+    if ahead.shape[0] == 0:
         return light_state
-    return light_state + n_light * sensed_state(blocked, geometry, fan, x, y, theta)
+    return light_state + n_light * sensed_state(ahead, geometry, fan, x, y, theta)
 
 
 @njit_no_refcount()
-def stopped(blocked: np.ndarray, geometry: np.ndarray, x: float, y: float) -> bool:
-    """A move that ends at (x, y) (m) runs into an obstacle (never without a map)."""
-    return blocked.shape[0] > 0 and touches(blocked, geometry, x, y)
+def stopped(
+    near: np.ndarray, geometry: np.ndarray, outline: np.ndarray, x: float, y: float, theta: float
+) -> bool:
+    """A move that ends at pose (x m, y m, heading rad) runs into an obstacle (never without
+    a map)."""
+    return near.shape[0] > 0 and touches(near, geometry, outline, x, y, theta)
 
 
 @njit(cache=True)

@@ -20,44 +20,61 @@ from qdsega.task import Task, TaskConfig
 POST = Box(xyz_m=(1.0, 0.0, 0.15), size_m=(0.1, 0.1, 0.3), yaw_rad=0.0)
 
 
-def _map(*boxes: Box, radius_m: float = 0.2, nose_m: float = 0.2) -> ObstacleMap:
-    found = ObstacleMap.of(World(name="boxes", boxes=boxes), radius_m=radius_m, nose_m=nose_m)
+CENTRE = np.zeros((1, 2))
+"""A body that is a point: its clearance is its radius."""
+
+
+def _map(*boxes: Box, radius_m: float = 0.2, outline_m: np.ndarray = CENTRE) -> ObstacleMap:
+    found = ObstacleMap.of(
+        World(name="boxes", boxes=boxes), outline_m=outline_m, clearance_m=radius_m
+    )
     assert found is not None
     return found
 
 
 def test_a_world_with_nothing_standing_has_no_map():
-    assert ObstacleMap.of(World(), radius_m=0.2, nose_m=0.2) is None
+    assert ObstacleMap.of(World(), outline_m=CENTRE, clearance_m=0.2) is None
     stairs = Stairs(from_m=0.5, rise_m=0.05, run_m=0.3, count=3, width_m=4.0)
-    assert ObstacleMap.of(World(name="up", stairs=stairs), radius_m=0.2, nose_m=0.2) is None
+    assert (
+        ObstacleMap.of(World(name="up", stairs=stairs), outline_m=CENTRE, clearance_m=0.2) is None
+    )
 
 
-def test_footprints_grow_by_the_body_half_width():
+def test_footprints_grow_by_the_clearance():
     obstacles = _map(POST, radius_m=0.2)
     edge = 0.05 + 0.2  # the post's half-size plus the growth
-    assert obstacles.touches(1.0, 0.0)
-    assert obstacles.touches(1.0 - edge + 2 * CELL_M, 0.0)
-    assert not obstacles.touches(1.0 - edge - 2 * CELL_M, 0.0)
-    assert obstacles.touches(1.0, edge - 2 * CELL_M)
-    assert not obstacles.touches(1.0, edge + 2 * CELL_M)
+    assert obstacles.touches(1.0, 0.0, 0.0)
+    assert obstacles.touches(1.0 - edge + 2 * CELL_M, 0.0, 0.0)
+    assert not obstacles.touches(1.0 - edge - 2 * CELL_M, 0.0, 0.0)
+    assert obstacles.touches(1.0, edge - 2 * CELL_M, 0.0)
+    assert not obstacles.touches(1.0, edge + 2 * CELL_M, 0.0)
     corner = 0.05 + 0.2 / math.sqrt(2)  # the corners round off
-    assert not obstacles.touches(1.0 + corner + 2 * CELL_M, corner + 2 * CELL_M)
-    assert not obstacles.touches(30.0, 0.0)  # off the grid: open ground
+    assert not obstacles.touches(1.0 + corner + 2 * CELL_M, corner + 2 * CELL_M, 0.0)
+    assert not obstacles.touches(30.0, 0.0, 0.0)  # off the grid: open ground
 
 
 def test_a_yawed_box_turns_its_footprint():
     long = Box(xyz_m=(0.0, 0.0, 0.1), size_m=(1.0, 0.1, 0.2), yaw_rad=math.radians(90))
     obstacles = _map(long, radius_m=0.05)
-    assert obstacles.touches(0.0, 0.4)
-    assert not obstacles.touches(0.4, 0.0)
+    assert obstacles.touches(0.0, 0.4, 0.0)
+    assert not obstacles.touches(0.4, 0.0, 0.0)
+
+
+def test_a_long_body_touches_a_wall_beside_it_only_when_turned_across():
+    wall = Box(xyz_m=(0.0, 0.3, 0.15), size_m=(4.0, 0.1, 0.3), yaw_rad=0.0)
+    snake = np.array([[-0.2, 0.0], [0.0, 0.0], [0.2, 0.0]])
+    obstacles = _map(wall, radius_m=0.05, outline_m=snake)
+    assert not obstacles.touches(0.0, 0.1, 0.0)
+    assert obstacles.touches(0.0, 0.1, math.pi / 2)
+    assert obstacles.nose_m == pytest.approx(0.25)
 
 
 def test_corridor_walls_are_obstacles():
     world = World(name="corridor", corridor=Corridor(width_m=0.4, length_m=5.0, height_m=0.3))
-    obstacles = ObstacleMap.of(world, radius_m=0.1, nose_m=0.1)
+    obstacles = ObstacleMap.of(world, outline_m=CENTRE, clearance_m=0.1)
     assert obstacles is not None
-    assert not obstacles.touches(2.0, 0.0)
-    assert obstacles.touches(2.0, 0.15) and obstacles.touches(2.0, -0.15)
+    assert not obstacles.touches(2.0, 0.0, 0.0)
+    assert obstacles.touches(2.0, 0.15, 0.0) and obstacles.touches(2.0, -0.15, 0.0)
 
 
 @pytest.mark.parametrize(

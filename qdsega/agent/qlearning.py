@@ -160,9 +160,11 @@ def learn_on_table(
     next_interior: np.ndarray,
     light: np.ndarray,
     edges: np.ndarray,
-    blocked: np.ndarray,
+    near: np.ndarray,
+    ahead: np.ndarray,
     geometry: np.ndarray,
     fan: np.ndarray,
+    outline: np.ndarray,
     trials: int,
     trial_steps: int,
     alpha: float,
@@ -191,9 +193,9 @@ def learn_on_table(
         next_interior: interior state each action leads to, shape (A,).
         light: light position (x, y) (m).
         edges: the light's bin edges (rad), shape (n_light,).
-        blocked, geometry, fan: the obstacles (:meth:`qdsega.task.Task.map_arrays`): an
-            empty grid where nothing stands; else the exterior states are the light's bins
-            times the sensed states.
+        near, ahead, geometry, fan, outline: the obstacles
+            (:meth:`qdsega.task.Task.map_arrays`): empty grids where nothing stands; else the
+            exterior states are the light's bins times the sensed states.
         trials, trial_steps: trials of this generation and commands per trial.
         alpha, gamma: eq. (1).
         temperature_params: (scale, rate, offset) of eq. (18).
@@ -207,7 +209,7 @@ def learn_on_table(
         The number of steps (commands) taken.
     """
     n_light = edges.shape[0]
-    n_exterior = n_light * (1 if blocked.shape[0] == 0 else SENSED_STATES)
+    n_exterior = n_light * (1 if ahead.shape[0] == 0 else SENSED_STATES)
     n_interior = dx.shape[0]
     scratch, weights = np.empty(q.shape[1]), np.empty(q.shape[1])
     bits = np.empty(q.shape[1], dtype=np.int64)
@@ -233,7 +235,7 @@ def learn_on_table(
         previous, interior, node = -1, 0, 0
         exterior = sensed_exterior(
             exterior_state(x, y, theta, light_x, light_y, edges),
-            n_light, blocked, geometry, fan, x, y, theta,
+            n_light, ahead, geometry, fan, x, y, theta,
         )  # fmt: skip
         fell[trial] = False
         for _ in range(trial_steps):
@@ -257,7 +259,7 @@ def learn_on_table(
             x_new, y_new = x, y
             if not fails:
                 x_new, y_new = move_position(x, y, cos_theta, sin_theta, mx, my)
-                fails = stopped(blocked, geometry, x_new, y_new)
+                fails = stopped(near, geometry, outline, x_new, y_new, theta + mt)
             if fails:
                 q[s, a] = (1.0 - alpha) * old + alpha * penalty
                 _update_stats(s, a, q[s, a], stats, arg)
@@ -272,7 +274,7 @@ def learn_on_table(
                 exterior_state_ahead(
                     x, y, theta, cos_theta, sin_theta, light_x, light_y, edges, directions
                 ),
-                n_light, blocked, geometry, fan, x, y, theta,
+                n_light, ahead, geometry, fan, x, y, theta,
             )  # fmt: skip
             best_next = _row_top(q, interior * n_exterior + exterior, stats, arg)
             q[s, a] = q_update(old, step_reward(d, d_new, reward_per_m), best_next, alpha, gamma)

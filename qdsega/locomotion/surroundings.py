@@ -1,8 +1,8 @@
 """A body's task in a world: the light's rules, and the obstacles sized to the body.
 
-The obstacle map (:mod:`qdsega.obstacle_map`) grows each obstacle by the body's half-width and
-casts its rays from the body's nose: both come from the body at rest, measured once here, so
-that the table (training) and exact physics (replays, evaluation) sense the same world.
+The obstacle map (:mod:`qdsega.obstacle_map`) needs the body's outline: its units' centres at
+rest, measured once here, so that the table (training) and exact physics (replays, evaluation)
+meet and sense the same world.
 """
 
 from __future__ import annotations
@@ -21,28 +21,31 @@ from qdsega.simulation.bullet import BulletSimulation
 from qdsega.simulation.camera import UNIT_SIZE_M
 from qdsega.task import Task, TaskConfig
 
+CLEARANCE_M = UNIT_SIZE_M / 2 + 0.02
+"""How close a unit's centre comes to an obstacle before the unit touches it (m): half a unit,
+and 2 cm for a leg's swing beyond its place at rest."""
 
-def body_half_size_m(formation: Formation, physics: PhysicsSettings) -> tuple[float, float]:
-    """Half the body's length along its heading and half its width across it at rest (m):
-    from its pose to the farthest unit centre each way, plus half a unit."""
+
+def body_outline_m(formation: Formation, physics: PhysicsSettings) -> np.ndarray:
+    """The centres of ``formation``'s units at rest on flat ground, in the body's own frame
+    (forward, left) (m), shape (U, 2)."""
     with BulletSimulation(robot=assemble(formation), settings=physics) as sim:
         sim.reset(formation.posture_rad(formation.rest_levels()))
         centres, quaternions = sim.unit_states()
     pose = BodyPoseEstimator(formation=formation).pose(centres, quaternions)
     c, s = math.cos(pose.heading_rad), math.sin(pose.heading_rad)
     ex, ey = centres[:, 0] - pose.x_m, centres[:, 1] - pose.y_m
-    along, across = np.abs(c * ex + s * ey), np.abs(-s * ex + c * ey)
-    return float(along.max()) + UNIT_SIZE_M / 2, float(across.max()) + UNIT_SIZE_M / 2
+    return np.column_stack([c * ex + s * ey, -s * ex + c * ey])
 
 
 def obstacle_map(
     formation: Formation, world: World, physics: PhysicsSettings
 ) -> ObstacleMap | None:
-    """``world``'s obstacles grown by ``formation``'s half-width; None where nothing stands."""
+    """``world``'s obstacles as ``formation`` meets them; None where nothing stands."""
     if not standing_boxes(world):
         return None
-    half_length, half_width = body_half_size_m(formation, physics)
-    return ObstacleMap.of(world, radius_m=half_width, nose_m=half_length)
+    outline = body_outline_m(formation, physics)
+    return ObstacleMap.of(world, outline_m=outline, clearance_m=CLEARANCE_M)
 
 
 def world_task(

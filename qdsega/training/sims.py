@@ -290,7 +290,7 @@ def memo_starts(
     spots = spots_toward(tuple(task.light), memo_spots(config, world))
     blocked = blocked_spots(formation, physics=config.physics, world=world, spots=spots)
     if task.obstacles is not None:
-        blocked += [s for s in spots if s not in blocked and task.obstacles.touches(*s)]
+        blocked += [s for s in spots if s not in blocked and task.obstacles.touches(*s, 0.0)]
     if len(blocked) == len(spots):
         raise WorldError(_every_spot_blocked(formation, world, spots))
     return spots, blocked

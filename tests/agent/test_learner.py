@@ -86,7 +86,7 @@ def test_a_table_carries_over_between_worlds_with_and_without_obstacles():
     sensing.task = Task(
         config=plain.task.config,
         light_xy=plain.task.light,
-        obstacles=ObstacleMap.of(posts, radius_m=0.2, nose_m=0.2),
+        obstacles=ObstacleMap.of(posts, outline_m=np.zeros((1, 2)), clearance_m=0.2),
     )
     sensing.restore(state)
     space, q = state.previous

@@ -201,6 +201,6 @@ def test_training_measures_moves_clear_of_obstacles_and_refuses_where_none_is(tm
         assert [x for x, _ in sim.grounded.base.spots] == [0.0, 0.25, 0.5, 1.25]
     finally:
         sim.close()
-    block = World(name="block", boxes=(Box((1.26, 0.0, 0.1), (2.1, 1.0, 0.2), 0.0),))
+    block = World(name="block", boxes=(Box((1.23, 0.0, 0.1), (2.1, 1.0, 0.2), 0.0),))
     with pytest.raises(WorldError, match=r"touches an obstacle of block at every place[^\n]*$"):
         build_sim(quadruped, config, tmp_path / "block", world=block)
