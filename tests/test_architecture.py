@@ -13,7 +13,7 @@ LAYERS = (
     ("qdsega.errors",),
     ("qdsega.atomic", "qdsega.yaml_reader", "qdsega.progress", "qdsega.folder_names", "qdsega.jit"),
     ("qdsega.description",),
-    ("qdsega.assembly",),
+    ("qdsega.assembly", "qdsega.obstacle_map"),
     ("qdsega.simulation", "qdsega.workers", "qdsega.task"),
     ("qdsega.agent",),
     ("qdsega.msm",),
