@@ -3,19 +3,22 @@ in one client step faster.
 
 Usage: .venv/bin/python experiments/physics_fidelity/run.py [--bodies quadruped,legged12,snake5]
            [--worlds flat,slope,rubble] [--hz 240,120,60] [--iterations 50,20,10]
-           [--settle 0.5,0.25] [--steps 30] [--repeats 3] [--copies 1,2,4]
-           [--copy-seconds 5] [--json OUT.json]
+           [--settle 0.5,0.25,1] [--tolerance 0.05] [--steps 30] [--repeats 3]
+           [--copies 1,2,4] [--copy-seconds 5] [--copy-repeats 5] [--json OUT.json]
 
 Fidelity: on every body and world, fixed reference gaits (the classic leg gaits; for a snake
-a fixed serpenoid and the serpenoid grid's best under the default physics) are replayed in
-exact physics (``LocomotionEnv``) at every setting of physics rate (Hz), solver iterations and
-settle time; the first value of each list is the reference (the toolkit's default 240 Hz, 50
-iterations, 0.5 s). It prints each setting's distances against the reference's and whether a
-gait's failure changed. The settle time is a module constant, ``SETTLE_S``, that ``env.py``
-imports: this script sets ``qdsega.locomotion.env.SETTLE_S`` while it builds an env (nothing in
-the package changes). The lower agent checks for failures every ``check_interval_steps``
-physics steps; the script scales it with the rate (12 at 240 Hz, 6 at 120 Hz, 3 at 60 Hz) so
-that every setting checks 20 times a second, as the default does.
+a fixed serpenoid and the serpenoid grid's best under the default physics; for both, the CPG
+gait the package ships for flat ground) are replayed in exact physics (``LocomotionEnv``) at
+every setting of physics rate (Hz), solver iterations and settle time; the first value of each
+list is the reference (the toolkit's default 240 Hz, 50 iterations, 0.5 s). It prints each
+setting's distances against the reference's and whether a gait's failure (or its step)
+changed; then which gaits are steady (the reference physics keeps their outcome within
+``--tolerance`` at every other settle time, i.e. when only the start moves a little) and which
+settings keep every steady gait within ``--tolerance``. The settle time is a module constant,
+``SETTLE_S``, that ``env.py`` imports: this script sets ``qdsega.locomotion.env.SETTLE_S``
+while it builds an env (nothing in the package changes). The lower agent checks for failures
+every ``check_interval_steps`` physics steps; the script scales it with the rate (12 at 240
+Hz, 6 at 120 Hz, 3 at 60 Hz) so that every setting checks 20 times a second, as the default.
 
 Speed: each rate and iteration count's trials are timed in ``--repeats`` rounds, the settings
 interleaved within a round (its order turned by one every round), and the median round kept
@@ -24,9 +27,11 @@ The settle time is spent once per env, before the snapshot every trial restores,
 a trial nothing and is not timed.
 
 Copies: ``--copies`` bodies of the same formation in one PyBullet client, 100 m apart on the
-flat ground, each walking its default gait (wave or serpenoid), timed as physics steps per
-second per body against one body in its own client; with the copies in each other's
-collision filter (they could touch, but never do) and out of it. The same rounds, interleaved.
+flat ground, each walking its default gait (wave or serpenoid) under the default physics,
+timed as physics steps per second per body against one body in its own client, in
+``--copy-repeats`` interleaved rounds (the median); with the copies in each other's collision
+filter (they could touch, but never do) and out of it. How far each copy walked shows that
+every one moved as the single body did.
 """
 
 from __future__ import annotations
@@ -294,6 +299,11 @@ def walk_copies(
         sim.step(physics_steps_per_posture)
 
 
+def base_xy(sim: BulletSimulation, bodies: list[int]) -> np.ndarray:
+    """Where each body's root unit stands, (bodies, 2) (m)."""
+    return np.array([sim.client.getBasePositionAndOrientation(b)[0][:2] for b in bodies])
+
+
 def measure_copies(
     formation: Formation, counts: list[int], seconds: float, repeats: int
 ) -> list[dict[str, Any]]:
@@ -308,6 +318,7 @@ def measure_copies(
     cases = [(n, apart) for n in counts for apart in ((False,) if n == 1 else (False, True))]
     clients = {case: copies_client(formation, postures, physics, *case) for case in cases}
     rates: dict[tuple[int, bool], list[float]] = {case: [] for case in cases}
+    starts = {case: base_xy(*clients[case]) for case in cases}
     try:
         for round_index in range(repeats):
             turn = round_index % len(cases)
@@ -324,6 +335,9 @@ def measure_copies(
             )
             for case, (sim, bodies) in clients.items()
         }
+        walked = {
+            case: np.linalg.norm(base_xy(*clients[case]) - starts[case], axis=1) for case in cases
+        }
     finally:
         for sim, _ in clients.values():
             sim.close()
@@ -336,6 +350,7 @@ def measure_copies(
             "steps_per_s_per_body": statistics.median(rates[(n, apart)]),
             "vs_one": statistics.median(rates[(n, apart)]) / single,
             "contacts_between_copies": touching[(n, apart)],
+            "walked_m": walked[(n, apart)].tolist(),
         }
         for n, apart in cases
     ]
@@ -351,6 +366,63 @@ def worst_error(row: dict[str, Any]) -> float | None:
 def changed_failures(row: dict[str, Any]) -> int:
     """Gaits whose failing, or the step it fails at, differs from the reference physics'."""
     return sum(g["failure_changed"] for g in row["gaits"].values())
+
+
+def steady_gaits(result: dict[str, Any], tolerance: float) -> list[str]:
+    """The gaits whose outcome the reference physics itself holds when only the start moves:
+    at every other settle time of the reference rate and iterations, the failure (and its
+    step) unchanged and the distance within ``tolerance`` of the reference's."""
+    first = result["rows"][0]
+    moved = [
+        row
+        for row in result["rows"][1:]
+        if (row["hz"], row["iterations"]) == (first["hz"], first["iterations"])
+    ]
+    return [
+        name
+        for name in first["gaits"]
+        if all(
+            not row["gaits"][name]["failure_changed"]
+            and row["gaits"][name]["relative_error"] <= tolerance
+            for row in moved
+        )
+    ]
+
+
+def print_steady(results: list[dict[str, Any]], tolerance: float) -> None:
+    """Per physics setting at the reference settle time: 'ok' where every steady gait keeps
+    its failure and its distance within ``tolerance``, else the worst error and changes."""
+    steady = [steady_gaits(result, tolerance) for result in results]
+    print(
+        f"Steady gaits (at every other settle time of the reference physics: failure as it "
+        f"was, distance within {tolerance:.0%}); per setting: ok where every steady gait keeps "
+        f"its failure and its distance within {tolerance:.0%}, else the worst error and the "
+        f"failures changed"
+    )
+    for result, names in zip(results, steady, strict=True):
+        print(f"- {result['body']} {result['world']}: {', '.join(names) or 'none'}")
+    columns = [
+        f"{r['body']} {r['world']} ({len(names)} of {len(r['rows'][0]['gaits'])})"
+        for r, names in zip(results, steady, strict=True)
+    ]
+    print(f"| setting | {' | '.join(columns)} |")
+    print(f"|---|{'---|' * len(columns)}")
+    settle = results[0]["rows"][0]["settle_s"]
+    for index, row in enumerate(results[0]["rows"]):
+        if row["settle_s"] != settle:
+            continue
+        cells = []
+        for result, names in zip(results, steady, strict=True):
+            gaits = [result["rows"][index]["gaits"][name] for name in names]
+            worst = max((g["relative_error"] for g in gaits), default=0.0)
+            changed = sum(g["failure_changed"] for g in gaits)
+            if not names:
+                cells.append("-")
+            elif worst <= tolerance and not changed:
+                cells.append(f"ok ({worst:.1%})")
+            else:
+                cells.append(f"{worst:.1%}" + (f", {changed} F" if changed else ""))
+        print(f"| {row['setting']} | {' | '.join(cells)} |")
 
 
 def print_tables(results: list[dict[str, Any]], copies: list[dict[str, Any]]) -> None:
@@ -413,14 +485,15 @@ def print_tables(results: list[dict[str, Any]], copies: list[dict[str, Any]]) ->
         print("Copies in one client (default physics, flat ground, 100 m apart):")
         print(
             "| body | copies | out of each other's filter | physics steps/s per body "
-            "| vs one body per client | contacts between copies |"
+            "| vs one body per client | contacts between copies | each copy walked (m) |"
         )
-        print("|---|---|---|---|---|---|")
+        print("|---|---|---|---|---|---|---|")
         for row in copies:
             print(
                 f"| {row['body']} | {row['copies']} | {'yes' if row['filtered_apart'] else 'no'} "
                 f"| {row['steps_per_s_per_body']:.0f} | {row['vs_one']:.2f}x "
-                f"| {row['contacts_between_copies']} |"
+                f"| {row['contacts_between_copies']} "
+                f"| {' / '.join(f'{w:.3f}' for w in row['walked_m'])} |"
             )
 
 
@@ -434,15 +507,19 @@ def main() -> int:
     parser.add_argument(
         "--iterations", default="50,20,10", help="solver iterations; first: reference"
     )
-    parser.add_argument("--settle", default="0.5,0.25", help="settle times (s); first: reference")
+    parser.add_argument("--settle", default="0.5,0.25,1", help="settle times (s); first: reference")
+    parser.add_argument("--tolerance", type=float, default=0.05, help="relative distance error")
     parser.add_argument("--steps", type=int, default=30, help="upper-agent steps per trial")
     parser.add_argument("--repeats", type=int, default=3, help="timed rounds (median kept)")
     parser.add_argument("--copies", default="1,2,4", help="bodies per client ('' to skip)")
     parser.add_argument("--copy-seconds", type=float, default=5.0, help="simulated s per round")
+    parser.add_argument("--copy-repeats", type=int, default=5, help="rounds of the copies")
     parser.add_argument("--json", type=Path, help="write every measurement here")
     args = parser.parse_args()
-    if args.steps < 1 or args.repeats < 1 or not args.copy_seconds > 0:
-        parser.error("--steps and --repeats must be at least 1, --copy-seconds positive")
+    if min(args.steps, args.repeats, args.copy_repeats) < 1:
+        parser.error("--steps, --repeats and --copy-repeats must be at least 1")
+    if not (args.copy_seconds > 0 and args.tolerance > 0):
+        parser.error("--copy-seconds and --tolerance must be positive")
     settings = [
         Setting(hz, iterations, settle)
         for settle, hz, iterations in itertools.product(
@@ -465,9 +542,11 @@ def main() -> int:
         row
         for formation in formations
         if counts
-        for row in measure_copies(formation, counts, args.copy_seconds, args.repeats)
+        for row in measure_copies(formation, counts, args.copy_seconds, args.copy_repeats)
     ]
     print_tables(results, copies)
+    print()
+    print_steady(results, args.tolerance)
     print(f"\n{time.perf_counter() - start:.0f} s in all; wall times are relative only")
     if args.json:
         args.json.write_text(json.dumps({"fidelity": results, "copies": copies}, indent=1))
