@@ -26,12 +26,12 @@ interleaved within a round (its order turned by one every round), and the median
 The settle time is spent once per env, before the snapshot every trial restores, so it costs
 a trial nothing and is not timed.
 
-Copies: ``--copies`` bodies of the same formation in one PyBullet client, 100 m apart on the
-flat ground, each walking its default gait (wave or serpenoid) under the default physics,
-timed as physics steps per second per body against one body in its own client, in
-``--copy-repeats`` interleaved rounds (the median); with the copies in each other's collision
-filter (they could touch, but never do) and out of it. How far each copy walked shows that
-every one moved as the single body did.
+Copies: ``--copies`` bodies of the same formation in one PyBullet client, 90 m apart on the
+flat ground (a square grid: the plane is a 200 m square), each walking its default gait (wave
+or serpenoid) under the default physics, timed as physics steps per second per body against
+one body in its own client, in ``--copy-repeats`` interleaved rounds (the median); with the
+copies in each other's collision filter (they could touch, but never do) and out of it. How
+far each copy walked shows that every one moved as the single body did.
 """
 
 from __future__ import annotations
@@ -67,8 +67,11 @@ from qdsega.task import TaskConfig
 
 CHECK_RATE_HZ = 20.0
 """Failure checks per simulated second at every setting (the default's 12 steps at 240 Hz)."""
-COPY_SPACING_M = 100.0
-"""Distance between neighbouring copies in one client (m)."""
+COPY_SPACING_M = 90.0
+"""Distance between neighbouring copies in one client (m), on a square grid."""
+GROUND_HALF_M = 95.0
+"""How far from the origin a copy may stand (m): PyBullet's plane is a 200 m square, and a
+body beyond its edge falls through nothing, which costs no contact at all."""
 
 
 @dataclass(frozen=True)
@@ -227,10 +230,25 @@ def measure_body_world(
     return {"body": formation.name, "world": world.name, "rows": rows}
 
 
+def copy_places(copies: int) -> list[tuple[float, float]]:
+    """Where each copy stands (m): a square grid ``COPY_SPACING_M`` apart, centred on the
+    origin, row by row."""
+    side = math.ceil(math.sqrt(copies))
+    centre = (side - 1) / 2
+    places = [
+        ((column - centre) * COPY_SPACING_M, (row - centre) * COPY_SPACING_M)
+        for row in range(side)
+        for column in range(side)
+    ][:copies]
+    if max(max(abs(x), abs(y)) for x, y in places) > GROUND_HALF_M:
+        raise SystemExit(f"--copies: {copies} copies {COPY_SPACING_M:g} m apart leave the ground")
+    return places
+
+
 def copies_client(
     formation: Formation, postures: np.ndarray, physics: PhysicsSettings, copies: int, apart: bool
 ) -> tuple[BulletSimulation, list[int]]:
-    """One client holding ``copies`` bodies on a line, ``COPY_SPACING_M`` apart; ``apart``
+    """One client holding ``copies`` bodies (:func:`copy_places`); ``apart``
     takes each copy out of the others' collision filter (the ground stays in every one's)."""
     import pybullet  # the package has imported it quietly by now
 
@@ -239,6 +257,8 @@ def copies_client(
     sim.reset(formation.posture_rad(postures[-1]))
     client = sim.client
     position, orientation = client.getBasePositionAndOrientation(sim.body_id)
+    places = copy_places(copies)
+    client.resetBasePositionAndOrientation(sim.body_id, (*places[0], position[2]), orientation)
     flags = pybullet.URDF_USE_INERTIA_FROM_FILE
     if physics.self_collision:
         flags |= pybullet.URDF_USE_SELF_COLLISION | pybullet.URDF_USE_SELF_COLLISION_EXCLUDE_PARENT
@@ -246,8 +266,8 @@ def copies_client(
     with tempfile.TemporaryDirectory(prefix="qdsega-copies-") as folder:
         urdf = Path(folder) / f"{formation.name}.urdf"
         write_assembly(robot, urdf)
-        for index in range(1, copies):
-            at = (position[0] + index * COPY_SPACING_M, position[1], position[2])
+        for x, y in places[1:]:
+            at = (x, y, position[2])
             bodies.append(client.loadURDF(str(urdf), at, orientation, flags=flags))
     for body in bodies[1:]:
         for joint_id, angle in zip(sim.joint_ids, formation.posture_rad(postures[-1]), strict=True):
@@ -425,7 +445,7 @@ def print_steady(results: list[dict[str, Any]], tolerance: float) -> None:
         print(f"| {row['setting']} | {' | '.join(cells)} |")
 
 
-def print_tables(results: list[dict[str, Any]], copies: list[dict[str, Any]]) -> None:
+def print_fidelity(results: list[dict[str, Any]]) -> None:
     print("Reference gaits, default physics (F: the lower agent failed):")
     print("| body | world | gait | distance (m) | postures reached | failure |")
     print("|---|---|---|---|---|---|")
@@ -480,27 +500,28 @@ def print_tables(results: list[dict[str, Any]], copies: list[dict[str, Any]]) ->
             ]
             cells.append(f"{statistics.median(ups):.2f}x")
         print(f"| {row['setting']} | {' | '.join(cells)} |")
-    if copies:
-        print()
-        print("Copies in one client (default physics, flat ground, 100 m apart):")
+
+
+def print_copies(copies: list[dict[str, Any]]) -> None:
+    print("Copies in one client (default physics, flat ground, 90 m apart):")
+    print(
+        "| body | copies | out of each other's filter | physics steps/s per body "
+        "| vs one body per client | contacts between copies | each copy walked (m) |"
+    )
+    print("|---|---|---|---|---|---|---|")
+    for row in copies:
         print(
-            "| body | copies | out of each other's filter | physics steps/s per body "
-            "| vs one body per client | contacts between copies | each copy walked (m) |"
+            f"| {row['body']} | {row['copies']} | {'yes' if row['filtered_apart'] else 'no'} "
+            f"| {row['steps_per_s_per_body']:.0f} | {row['vs_one']:.2f}x "
+            f"| {row['contacts_between_copies']} "
+            f"| {' / '.join(f'{w:.3f}' for w in row['walked_m'])} |"
         )
-        print("|---|---|---|---|---|---|---|")
-        for row in copies:
-            print(
-                f"| {row['body']} | {row['copies']} | {'yes' if row['filtered_apart'] else 'no'} "
-                f"| {row['steps_per_s_per_body']:.0f} | {row['vs_one']:.2f}x "
-                f"| {row['contacts_between_copies']} "
-                f"| {' / '.join(f'{w:.3f}' for w in row['walked_m'])} |"
-            )
 
 
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--bodies", default="quadruped,legged12,snake5")
-    parser.add_argument("--worlds", default="flat,slope,rubble")
+    parser.add_argument("--worlds", default="flat,slope,rubble", help="'' for the copies only")
     parser.add_argument(
         "--hz", default="240,120,60", help="physics rates; the first is the reference"
     )
@@ -530,7 +551,7 @@ def main() -> int:
     ]
     counts = number_list(args.copies, int, "copies") if args.copies else []
     formations = [load_formation(resolve_formation(b)) for b in args.bodies.split(",")]
-    worlds = [named_world(w) for w in args.worlds.split(",")]
+    worlds = [named_world(w) for w in args.worlds.split(",")] if args.worlds else []
     start = time.perf_counter()
     results = []
     for formation, world in itertools.product(formations, worlds):
@@ -544,10 +565,15 @@ def main() -> int:
         if counts
         for row in measure_copies(formation, counts, args.copy_seconds, args.copy_repeats)
     ]
-    print_tables(results, copies)
-    print()
-    print_steady(results, args.tolerance)
-    print(f"\n{time.perf_counter() - start:.0f} s in all; wall times are relative only")
+    if results:
+        print_fidelity(results)
+        print()
+        print_steady(results, args.tolerance)
+        print()
+    if copies:
+        print_copies(copies)
+        print()
+    print(f"{time.perf_counter() - start:.0f} s in all; wall times are relative only")
     if args.json:
         args.json.write_text(json.dumps({"fidelity": results, "copies": copies}, indent=1))
     return 0
