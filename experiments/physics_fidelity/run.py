@@ -411,7 +411,8 @@ def steady_gaits(result: dict[str, Any], tolerance: float) -> list[str]:
 
 def print_steady(results: list[dict[str, Any]], tolerance: float) -> None:
     """Per physics setting at the reference settle time: 'ok' where every steady gait keeps
-    its failure and its distance within ``tolerance``, else the worst error and changes."""
+    its failure and its distance within ``tolerance``, else the worst error (of the steady
+    gaits that complete under the reference) and the failures changed."""
     steady = [steady_gaits(result, tolerance) for result in results]
     print(
         f"Steady gaits (at every other settle time of the reference physics: failure as it "
@@ -434,14 +435,16 @@ def print_steady(results: list[dict[str, Any]], tolerance: float) -> None:
         cells = []
         for result, names in zip(results, steady, strict=True):
             gaits = [result["rows"][index]["gaits"][name] for name in names]
-            worst = max((g["relative_error"] for g in gaits), default=0.0)
+            errors = [g["relative_error"] for g in gaits if g["reference_failure"] is None]
+            worst = max(errors, default=0.0)
             changed = sum(g["failure_changed"] for g in gaits)
+            text = f"{worst:.1%}" if errors else "-"
             if not names:
                 cells.append("-")
             elif worst <= tolerance and not changed:
-                cells.append(f"ok ({worst:.1%})")
+                cells.append(f"ok ({text})")
             else:
-                cells.append(f"{worst:.1%}" + (f", {changed} F" if changed else ""))
+                cells.append(text + (f", {changed} F" if changed else ""))
         print(f"| {row['setting']} | {' | '.join(cells)} |")
 
 
@@ -518,6 +521,19 @@ def print_copies(copies: list[dict[str, Any]]) -> None:
         )
 
 
+def print_all(
+    results: list[dict[str, Any]], copies: list[dict[str, Any]], tolerance: float
+) -> None:
+    if results:
+        print_fidelity(results)
+        print()
+        print_steady(results, tolerance)
+        print()
+    if copies:
+        print_copies(copies)
+        print()
+
+
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--bodies", default="quadruped,legged12,snake5")
@@ -536,6 +552,7 @@ def main() -> int:
     parser.add_argument("--copy-seconds", type=float, default=5.0, help="simulated s per round")
     parser.add_argument("--copy-repeats", type=int, default=5, help="rounds of the copies")
     parser.add_argument("--json", type=Path, help="write every measurement here")
+    parser.add_argument("--tables", type=Path, help="print the tables of a --json file only")
     args = parser.parse_args()
     if min(args.steps, args.repeats, args.copy_repeats) < 1:
         parser.error("--steps, --repeats and --copy-repeats must be at least 1")
@@ -549,6 +566,10 @@ def main() -> int:
             number_list(args.iterations, int, "iterations"),
         )
     ]
+    if args.tables:
+        saved = json.loads(args.tables.read_text(encoding="utf-8"))
+        print_all(saved["fidelity"], saved["copies"], args.tolerance)
+        return 0
     counts = number_list(args.copies, int, "copies") if args.copies else []
     formations = [load_formation(resolve_formation(b)) for b in args.bodies.split(",")]
     worlds = [named_world(w) for w in args.worlds.split(",")] if args.worlds else []
@@ -565,14 +586,7 @@ def main() -> int:
         if counts
         for row in measure_copies(formation, counts, args.copy_seconds, args.copy_repeats)
     ]
-    if results:
-        print_fidelity(results)
-        print()
-        print_steady(results, args.tolerance)
-        print()
-    if copies:
-        print_copies(copies)
-        print()
+    print_all(results, copies, args.tolerance)
     print(f"{time.perf_counter() - start:.0f} s in all; wall times are relative only")
     if args.json:
         args.json.write_text(json.dumps({"fidelity": results, "copies": copies}, indent=1))
