@@ -74,7 +74,7 @@ GROUND_HALF_M = 95.0
 body beyond its edge falls through nothing, which costs no contact at all."""
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class Setting:
     """One cell of the grid: physics rate (Hz), solver iterations, settle time (s)."""
 
@@ -559,7 +559,7 @@ def main() -> int:
     if not (args.copy_seconds > 0 and args.tolerance > 0):
         parser.error("--copy-seconds and --tolerance must be positive")
     settings = [
-        Setting(hz, iterations, settle)
+        Setting(hz=hz, iterations=iterations, settle_s=settle)
         for settle, hz, iterations in itertools.product(
             number_list(args.settle, float, "settle"),
             number_list(args.hz, float, "hz"),
