@@ -52,6 +52,11 @@ TINY_RUNS = {
     "experiments/memo_speed/physics_curve.py": (
         "snake5", "--postures", "1", "--settings", "240:50,120:20",
     ),
+    "experiments/physics_fidelity/run.py": (
+        "--bodies", "snake5", "--worlds", "flat", "--hz", "240,60", "--iterations", "50",
+        "--settle", "0.5,0.25", "--steps", "2", "--repeats", "1", "--copies", "1,2",
+        "--copy-seconds", "0.5",
+    ),
 }  # fmt: skip
 ON_A_REPERTOIRE = "experiments/adaptation/adaptation_table.py"
 ON_A_RUN = (  # run below on the tiny runs reconfiguration_table.py makes
