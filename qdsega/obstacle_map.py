@@ -4,10 +4,10 @@ Boxes and walls stand on the ground; a body must go around them (steps and rough
 climbs, so they are ground, not obstacles). Two rules use the map, both through
 :class:`qdsega.task.Task`:
 
-* **a move into an obstacle fails**: the table's moves are measured on open ground, and a move
-  that would bring one of the body's units (its outline: the units' centres at rest, turned
-  with the body) within ``clearance_m`` of an obstacle ends the trial as the lower agent's
-  failure does (in exact physics the body is stopped there);
+* **a move into an obstacle is lost**: the table's moves are measured on open ground, and a
+  move that would bring one of the body's units (its outline: the units' centres at rest,
+  turned with the body) within ``clearance_m`` of an obstacle leaves the body where it was
+  (in exact physics the obstacle stops it there); the trial goes on;
 * **the body senses what is ahead**: rays fan out from the body's centre at ``FAN_DEG`` from
   its heading, reaching ``RANGE_M`` beyond its nose, and meet the obstacles grown by the
   body's half-width (what its sides would brush); the sensed state is 0 where none meets one,

@@ -14,7 +14,8 @@ kernels:
   bins ahead (straight ahead, -15..15 deg, a bin of its own) and state 0 for "outside". In a
   world with obstacles, times what the body senses ahead (:mod:`qdsega.obstacle_map`):
   ``light_bin + n_light_bins * sensed``;
-* **obstacles**: a table move that would carry the body into an obstacle fails;
+* **obstacles**: a table move that would carry the body into an obstacle is lost: the body
+  stays where it was, in the posture it was sent to;
 * **pose integration**: a step's move is measured in the body frame at its start (forward
   ``dx`` m, leftward ``dy`` m, turn ``dtheta`` rad) and applied to the world pose (eqs.
   (14)-(16), with ``dy`` added for bodies that also slip sideways).
@@ -142,14 +143,14 @@ class Task:
     def move(
         self, pose: Pose, dx: float, dy: float, dtheta: float, failed: bool
     ) -> tuple[Pose, float, bool]:
-        """One table step: a body-frame move from ``pose``, or a failure (the pose stays; a
-        move into an obstacle fails too); the new pose, the step's reward (eq. 17, or the
-        penalty) and whether it failed."""
+        """One table step: a body-frame move from ``pose``, or a failure (the pose stays); a
+        move into an obstacle is lost (the pose stays, the trial goes on). The new pose, the
+        step's reward (eq. 17, or the penalty) and whether it failed."""
         if failed:
             return pose, self.penalty, True
         after = move_pose(*pose, dx, dy, dtheta)
         if self.obstacles is not None and self.obstacles.touches(*after):
-            return pose, self.penalty, True
+            after = pose
         return after, self.reward(pose, after), False
 
     def exterior(self, pose: Pose) -> int:
@@ -273,8 +274,8 @@ def sensed_exterior(
 def stopped(
     near: np.ndarray, geometry: np.ndarray, outline: np.ndarray, x: float, y: float, theta: float
 ) -> bool:
-    """A move that ends at pose (x m, y m, heading rad) runs into an obstacle (never without
-    a map)."""
+    """A move that ends at pose (x m, y m, heading rad) runs into an obstacle, and so is lost
+    (never without a map)."""
     return near.shape[0] > 0 and touches(near, geometry, outline, x, y, theta)
 
 

@@ -259,7 +259,8 @@ def learn_on_table(
             x_new, y_new = x, y
             if not fails:
                 x_new, y_new = move_position(x, y, cos_theta, sin_theta, mx, my)
-                fails = stopped(near, geometry, outline, x_new, y_new, theta + mt)
+                if stopped(near, geometry, outline, x_new, y_new, theta + mt):
+                    x_new, y_new, mt = x, y, 0.0  # run into an obstacle: the move is lost
             if fails:
                 q[s, a] = (1.0 - alpha) * old + alpha * penalty
                 _update_stats(s, a, q[s, a], stats, arg)

@@ -21,9 +21,8 @@ from qdsega.simulation.bullet import BulletSimulation
 from qdsega.simulation.camera import UNIT_SIZE_M
 from qdsega.task import Task, TaskConfig
 
-CLEARANCE_M = UNIT_SIZE_M / 2 + 0.02
-"""How close a unit's centre comes to an obstacle before the unit touches it (m): half a unit,
-and 2 cm for a leg's swing beyond its place at rest."""
+CLEARANCE_M = UNIT_SIZE_M / 2
+"""How close a unit's centre comes to an obstacle before the unit touches it (m)."""
 
 
 def body_outline_m(formation: Formation, physics: PhysicsSettings) -> np.ndarray:

@@ -182,13 +182,16 @@ def test_training_measures_moves_only_where_the_body_can_stand(tmp_path):
 
 
 def test_training_measures_moves_clear_of_obstacles_and_refuses_where_none_is(tmp_path):
-    """A post on the way: the starts that touch it (the map grows it by the body's half-width)
-    are left out. A long block just ahead of the start: every start touches it, said in one
-    line."""
+    """A post on the way: the starts where the body touches it are left out. A long block
+    just ahead of the start, which the body touches (given a wide clearance) at every start:
+    said in one line."""
     from qdsega.description.world import Box, World
     from qdsega.errors import WorldError
+    from qdsega.locomotion.surroundings import body_outline_m
+    from qdsega.obstacle_map import ObstacleMap
+    from qdsega.task import Task
     from qdsega.training.config import TrainingConfig
-    from qdsega.training.sims import build_sim
+    from qdsega.training.sims import build_sim, memo_starts
 
     quadruped = load_formation(resolve_formation("quadruped"))
     config = TrainingConfig(sim="memo", workers=1)
@@ -201,6 +204,9 @@ def test_training_measures_moves_clear_of_obstacles_and_refuses_where_none_is(tm
         assert [x for x, _ in sim.grounded.base.spots] == [0.0, 0.25, 0.5, 1.25]
     finally:
         sim.close()
-    block = World(name="block", boxes=(Box((1.23, 0.0, 0.1), (2.1, 1.0, 0.2), 0.0),))
+    block = World(name="block", boxes=(Box((1.26, 0.0, 0.1), (2.1, 1.0, 0.2), 0.0),))
+    outline = body_outline_m(quadruped, config.physics)
+    wide = ObstacleMap.of(block, outline_m=outline, clearance_m=0.12)
+    task = Task(config=config.task, light_xy=quadruped.light.position_m, obstacles=wide)
     with pytest.raises(WorldError, match=r"touches an obstacle of block at every place[^\n]*$"):
-        build_sim(quadruped, config, tmp_path / "block", world=block)
+        memo_starts(quadruped, config, block, task)
