@@ -15,6 +15,7 @@ import pytest
 from helpers import (
     assert_same_result,
     finished_generations,
+    made_once,
     run_cli,
     start_cli,
     stop_after,
@@ -52,19 +53,20 @@ def _train_args(kind: str, tmp_path: Path, out: Path, workers: int = 1) -> list[
     ]  # fmt: skip
 
 
-@pytest.fixture(scope="module")
+@pytest.fixture(scope="session")
 def uninterrupted(tmp_path_factory: pytest.TempPathFactory) -> Callable[[str], tuple[Path, float]]:
-    """The uninterrupted run of each kind (made once), and its wall time (s)."""
-    runs: dict[str, tuple[Path, float]] = {}
+    """The uninterrupted run of each kind, made once for all test processes
+    (:func:`helpers.made_once`), and its wall time (s)."""
 
     def get(kind: str) -> tuple[Path, float]:
-        if kind not in runs:
-            folder = tmp_path_factory.mktemp(f"whole-{kind}")
+        def make(folder: Path) -> None:
             start = time.monotonic()
             result = run_cli(*_train_args(kind, folder, folder / "run"))
             assert result.returncode == 0, result.stderr
-            runs[kind] = (folder / "run", time.monotonic() - start)
-        return runs[kind]
+            (folder / "wall_s.txt").write_text(f"{time.monotonic() - start!r}")
+
+        folder = made_once(tmp_path_factory, f"whole-{kind.replace(' ', '-')}", make)
+        return folder / "run", float((folder / "wall_s.txt").read_text())
 
     return get
 

@@ -12,16 +12,6 @@ from qdsega.training.run_folder import RunFolder
 
 pytestmark = pytest.mark.slow  # end to end: make test-fast leaves it out
 
-ray = pytest.importorskip("ray", reason="Ray is an optional extra: pip install -e '.[ray]'")
-
-
-@pytest.fixture(scope="module")
-def local_ray():
-    from qdsega.workers.ray_cluster import LOCAL, connect
-
-    yield connect(LOCAL)
-    ray.shutdown()
-
 
 def test_a_memo_table_measured_by_ray_actors_equals_the_local_one(local_ray):
     snake5 = load_formation("assemblies/snake5.yaml")
@@ -45,7 +35,7 @@ TINY = "agent: {learning: {trials: 20}, genetic: {population: 4, generations: 2}
 TINY += "task: {trial_steps: 4}\nlocal_search: 1\n"
 
 
-def test_a_run_with_ray_local_learns_what_local_processes_learn(tmp_path):
+def test_a_run_with_ray_local_learns_what_local_processes_learn(local_ray, tmp_path):
     from helpers import run_cli
 
     (tmp_path / "tiny.yaml").write_text(TINY)
@@ -55,7 +45,6 @@ def test_a_run_with_ray_local_learns_what_local_processes_learn(tmp_path):
         result = run_cli(
             "train", "snake5", "--sim", "memo", "--preset", "paper-snake", "--workers", "2",
             "--config", tmp_path / "tiny.yaml", "--out", runs[name], "--quiet", *extra,
-            own_process=bool(extra),  # Ray's global state needs a process of its own
         )  # fmt: skip
         assert result.returncode == 0, result.stderr
     memo = RunFolder.TRANSITIONS
