@@ -29,12 +29,14 @@ SHIPPED_WORLDS = sorted(WORLDS_DIR.glob("*.yaml"))
 SHIPPED_UNITS = sorted(p for p in UNITS_DIR.iterdir() if p.is_dir() and p.name != "__pycache__")
 TINY_TRAINING = """\
 workers: 1
+local_search: 1
 agent:
   learning: {trials: 20}
   genetic: {population: 6}
 task: {trial_steps: 4}
 """
-"""A --config file for training runs a test can afford (seconds)."""
+"""A --config file for training runs a test can afford (seconds): one neighbour of the best
+trial replayed a generation, not the default's ten."""
 
 BIPED = """\
 name: biped

@@ -110,7 +110,7 @@ def test_a_grid_of_worlds_trains_each_body_in_each_world(tmp_path):
     (tmp_path / "grid.yaml").write_text(
         "formations: [quadruped]\nworlds: [flat, ice]\nsim: memo\nreference_trials: 0\n"
         "configs:\n  tiny: {agent: {genetic: {generations: 1, population: 6}, "
-        "learning: {trials: 20}}, task: {trial_steps: 4}, workers: 1}\n"
+        "learning: {trials: 20}}, task: {trial_steps: 4}, workers: 1, local_search: 1}\n"
     )
     result = run_cli("sweep", tmp_path / "grid.yaml", "--out", tmp_path / "out", "--jobs", "2")
     assert result.returncode == 0, result.stderr

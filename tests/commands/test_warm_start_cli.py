@@ -19,8 +19,8 @@ MEMO_BUDGET = """\
 workers: 1
 local_search: 1
 agent:
-  learning: {trials: 40}
-  genetic: {population: 8, generations: 2}
+  learning: {trials: 20}
+  genetic: {population: 6, generations: 2}
 task: {trial_steps: 6}
 """
 
