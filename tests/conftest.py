@@ -71,6 +71,26 @@ def tiny_run(tmp_path_factory: pytest.TempPathFactory) -> Path:
 
 
 @pytest.fixture(scope="session")
+def quadruped_repertoire(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """A repertoire of quadruped gaits filled in exact physics under memo mode's rules (40
+    trials into 8 cells), built by the library, made once for all test processes
+    (:func:`made_once`); copy it before changing it."""
+    from helpers import made_once
+
+    from qdsega.adaptation.repertoire import RepertoireSettings, build_repertoire
+    from qdsega.description import load_formation, resolve_formation
+    from qdsega.training.config import resolve_config
+
+    def make(folder: Path) -> None:
+        quadruped = load_formation(resolve_formation("quadruped"))
+        rules = resolve_config(overrides={"sim": "memo"}, formation=quadruped).rules()
+        settings = RepertoireSettings(evaluations=40, cells=8)
+        build_repertoire(quadruped, folder / "quadruped", rules=rules, settings=settings, workers=1)
+
+    return made_once(tmp_path_factory, "quadruped-repertoire", make) / "quadruped"
+
+
+@pytest.fixture(scope="session")
 def local_ray() -> Iterator[Any]:
     """A local Ray instance in this test process, started once for every test that uses
     ``--ray local`` here (their runs find it up), with one thread each for linear algebra as
