@@ -35,15 +35,18 @@ TINY = "agent: {learning: {trials: 20}, genetic: {population: 4, generations: 2}
 TINY += "task: {trial_steps: 4}\nlocal_search: 1\n"
 
 
-def test_a_run_with_ray_local_learns_what_local_processes_learn(local_ray, tmp_path):
+def test_a_run_with_ray_local_learns_what_a_run_without_ray_learns(local_ray, tmp_path):
+    """Two Ray actors against one process (what worker processes measure is the same, bit for
+    bit: tests/locomotion/test_memo.py)."""
     from helpers import run_cli
 
     (tmp_path / "tiny.yaml").write_text(TINY)
     runs = {}
-    for name, extra in (("local", []), ("ray", ["--ray", "local"])):
+    ways = {"local": ["--workers", "1"], "ray": ["--workers", "2", "--ray", "local"]}
+    for name, extra in ways.items():
         runs[name] = tmp_path / name
         result = run_cli(
-            "train", "snake5", "--sim", "memo", "--preset", "paper-snake", "--workers", "2",
+            "train", "snake5", "--sim", "memo", "--preset", "paper-snake",
             "--config", tmp_path / "tiny.yaml", "--out", runs[name], "--quiet", *extra,
         )  # fmt: skip
         assert result.returncode == 0, result.stderr
