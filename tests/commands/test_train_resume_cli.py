@@ -260,8 +260,10 @@ def test_a_snake_with_60_deg_level_spans_trains_with_no_configuration(write_form
              axis: yaw, levels_deg: {min: -30, max: 30, step: 10}}
         """
     )
-    budget = tmp_path / "budget.yaml"  # a small population: nothing about timing
-    budget.write_text("agent: {genetic: {population: 4}}\nlocal_search: 1\n")
+    budget = tmp_path / "budget.yaml"  # a small population, short trials: nothing about timing
+    budget.write_text(
+        "agent: {genetic: {population: 4}}\nlocal_search: 1\ntask: {trial_steps: 4}\n"
+    )
     run = tmp_path / "run"
     result = run_cli(
         "train", formation, "--sim", "memo", "--preset", "paper-snake", "--config", budget,
