@@ -30,9 +30,9 @@ MEMO_BUDGET = """\
 workers: {workers}
 local_search: 2
 agent:
-  learning: {{trials: 60}}
-  genetic: {{population: 6, generations: 3}}
-task: {{trial_steps: 5}}
+  learning: {{trials: 40}}
+  genetic: {{population: 4, generations: 3}}
+task: {{trial_steps: 4}}
 """
 
 
