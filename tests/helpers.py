@@ -5,10 +5,12 @@ from __future__ import annotations
 import contextlib
 import copy
 import csv
+import fcntl
 import io
 import json
 import math
 import os
+import shutil
 import signal
 import subprocess
 import sys
@@ -18,6 +20,7 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+import pytest
 
 from qdsega.description.shipped import ASSEMBLIES_DIR, UNITS_DIR, WORLDS_DIR
 
@@ -26,12 +29,14 @@ SHIPPED_WORLDS = sorted(WORLDS_DIR.glob("*.yaml"))
 SHIPPED_UNITS = sorted(p for p in UNITS_DIR.iterdir() if p.is_dir() and p.name != "__pycache__")
 TINY_TRAINING = """\
 workers: 1
+local_search: 1
 agent:
   learning: {trials: 20}
   genetic: {population: 6}
 task: {trial_steps: 4}
 """
-"""A --config file for training runs a test can afford (seconds)."""
+"""A --config file for training runs a test can afford (seconds): one neighbour of the best
+trial replayed a generation, not the default's ten."""
 
 BIPED = """\
 name: biped
@@ -84,6 +89,38 @@ def run_cli(
     finally:
         os.chdir(here)
     return subprocess.CompletedProcess(argv, code, out.getvalue(), err.getvalue())
+
+
+def made_once(
+    tmp_path_factory: pytest.TempPathFactory, name: str, make: Callable[[Path], None]
+) -> Path:
+    """The folder ``name`` that ``make(folder)`` fills, made once for all test processes (the
+    first makes it, under a lock, the others wait and share it): what costs seconds is paid
+    once however xdist spreads the tests that read it. Copy it before changing it."""
+    shared = tmp_path_factory.getbasetemp()
+    if "PYTEST_XDIST_WORKER" in os.environ:
+        shared = shared.parent  # this session's folder, above each worker's own
+    folder, done = shared / name, shared / f"{name}.done"
+    with open(shared / f"{name}.lock", "w") as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX)
+        if not done.is_file():
+            shutil.rmtree(folder, ignore_errors=True)  # a process killed while it made it
+            folder.mkdir()
+            make(folder)
+            done.touch()
+    return folder
+
+
+def save_result(result: subprocess.CompletedProcess[str], file: Path) -> None:
+    """Keep what a command returned and printed, for :func:`load_result` in another process."""
+    kept = {"returncode": result.returncode, "stdout": result.stdout, "stderr": result.stderr}
+    file.write_text(json.dumps(kept))
+
+
+def load_result(file: Path) -> subprocess.CompletedProcess[str]:
+    """What :func:`save_result` kept, as the command's result."""
+    kept = json.loads(file.read_text())
+    return subprocess.CompletedProcess([], kept["returncode"], kept["stdout"], kept["stderr"])
 
 
 def start_cli(*args: str | Path) -> subprocess.Popen[str]:

@@ -19,7 +19,7 @@ CHECKOUT = Path(__file__).resolve().parent.parent
 SOURCES = ("pyproject.toml", "README.md", "LICENSE", "qdsega", "units", "assemblies", "worlds")
 """What the wheel is built from: copied, so that the build leaves nothing in the checkout."""
 
-TINY_TRAINING = "agent:\n  genetic: {population: 2}\nlocal_search: 1\n"
+TINY_TRAINING = "agent:\n  genetic: {population: 2}\nlocal_search: 1\ntask: {trial_steps: 4}\n"
 
 
 def _run(*args: str | Path, cwd: Path) -> subprocess.CompletedProcess[str]:

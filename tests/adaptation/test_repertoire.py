@@ -26,7 +26,6 @@ pytestmark = pytest.mark.slow  # exact physics: seconds a build
 QUADRUPED = load_formation(resolve_formation("quadruped"))
 SHORT = {"sim": "memo", "task": {"trial_steps": 10}}  # a third of the preset's trial: faster
 RULES = resolve_config(overrides=SHORT, formation=QUADRUPED).rules()
-DEFAULT_RULES = resolve_config(overrides={"sim": "memo"}, formation=QUADRUPED).rules()
 
 
 def _build(out, evaluations):
@@ -48,7 +47,10 @@ def test_a_build_stopped_and_continued_gives_the_same_archive(tmp_path):
         assert np.array_equal(value, again.state()[name], equal_nan=True), name
 
 
-def test_the_command_killed_and_run_again_builds_the_same_archive_and_draws_it(tmp_path):
+def test_the_command_killed_and_run_again_builds_the_same_archive_and_draws_it(
+    quadruped_repertoire, tmp_path
+):
+    # the settings of quadruped_repertoire (built by the library, the whole to compare with)
     args = ("repertoire", "quadruped", "--fill", "pybullet", "--evaluations", "40", "--cells", "8",
             "--workers", "1")  # fmt: skip
     killed = tmp_path / "killed"
@@ -62,10 +64,7 @@ def test_the_command_killed_and_run_again_builds_the_same_archive_and_draws_it(t
     assert f"{record['filled']} cells of 8 filled" in result.stdout
     assert (killed / "archive.png").is_file() == (record["filled"] > 0)
     assert (killed / "formation.json").is_file()  # its own copy of the body, for adapt
-    whole = tmp_path / "whole"
-    settings = RepertoireSettings(evaluations=40, cells=8)
-    build_repertoire(QUADRUPED, whole, rules=DEFAULT_RULES, settings=settings, workers=1)
-    for name, value in load_repertoire(whole)[0].state().items():
+    for name, value in load_repertoire(quadruped_repertoire)[0].state().items():
         assert np.array_equal(value, load_repertoire(killed)[0].state()[name], equal_nan=True)
 
 

@@ -6,9 +6,10 @@ from __future__ import annotations
 import argparse
 import importlib.util
 import json
+import shutil
 
 import pytest
-from helpers import run_cli
+from helpers import load_result, made_once, run_cli, save_result
 
 from qdsega.bench.tasks import QUICK
 from qdsega.commands import bench
@@ -23,11 +24,16 @@ pytestmark = [
 RUNS = sum(len(task.methods) * task.seeds for task in QUICK)
 
 
-@pytest.fixture(scope="module")
+@pytest.fixture(scope="session")
 def quick(tmp_path_factory):
-    out = tmp_path_factory.mktemp("bench") / "out"
-    result = run_cli("bench", "--quick", "--out", out, "--jobs", "2")
-    return out, result
+    """``bench --quick`` into ``out``, made once for both tests, and what it returned."""
+
+    def make(folder):
+        result = run_cli("bench", "--quick", "--out", folder / "out", "--jobs", "2")
+        save_result(result, folder / "result.json")
+
+    folder = made_once(tmp_path_factory, "bench-quick", make)
+    return folder / "out", load_result(folder / "result.json")
 
 
 def test_every_method_runs_on_every_task_and_the_report_shows_it(quick):
@@ -47,11 +53,12 @@ def test_every_method_runs_on_every_task_and_the_report_shows_it(quick):
     assert f"bench {RUNS}/{RUNS}: 0 failed, elapsed " in result.stderr  # the progress line
 
 
-def test_a_rerun_skips_every_finished_run(quick):
-    out, _ = quick
+def test_a_rerun_skips_every_finished_run(quick, tmp_path):
+    out = tmp_path / "out"
+    shutil.copytree(quick[0], out)  # its own copy: the other test reads the shared one
     results = sorted((out / "results").rglob("*.json"))
     before = {file: file.stat().st_mtime_ns for file in results}
-    again = run_cli("bench", "--quick", "--out", out, "--jobs", "2")
+    again = run_cli("bench", "--quick", "--out", out, "--jobs", "1")  # nothing to run
     assert again.returncode == 0, again.stderr
     assert f"{RUNS} of {RUNS} runs finished before; running 0" in again.stdout
     assert "bench " not in again.stderr  # nothing to run: no progress line

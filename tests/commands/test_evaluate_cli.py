@@ -17,6 +17,7 @@ pytestmark = pytest.mark.slow  # end to end: make test-fast leaves it out
 TOOLS = Path(__file__).resolve().parents[2] / "experiments" / "grid"
 TINY = """\
 workers: 1
+local_search: 1
 agent:
   learning: {trials: 20}
   genetic: {population: 4, generations: 2}

@@ -28,13 +28,10 @@ def biped(tmp_path: Path) -> tuple[Path, Path]:
 
 
 def test_a_killed_reform_keeps_what_it_finished_and_ends_with_everything(
-    biped: tuple[Path, Path], tmp_path: Path
+    biped: tuple[Path, Path], quadruped_repertoire: Path, tmp_path: Path
 ):
     body, config = biped
-    repertoire = tmp_path / "repertoire"  # a body whose legs L1 and R1 the biped has
-    built = run_cli("repertoire", "quadruped", "--fill", "pybullet", "--evaluations", "32",
-                    "--cells", "8", "--workers", "1", "--out", repertoire)  # fmt: skip
-    assert built.returncode == 0, built.stderr
+    repertoire = quadruped_repertoire  # a body whose legs L1 and R1 the biped has
     out = tmp_path / "reform"
     args = ("reform", body, "--config", config, "--screen", "1", "--rounds", "1", "--top", "1",
             "--repertoire", repertoire, "--jobs", "2", "--out", out)  # fmt: skip

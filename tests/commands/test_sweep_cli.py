@@ -5,13 +5,14 @@ from __future__ import annotations
 import csv
 import json
 import os
+import shutil
 import signal
 import subprocess
 import time
 from pathlib import Path
 
 import pytest
-from helpers import run_cli, start_cli, stop_when
+from helpers import load_result, made_once, run_cli, save_result, start_cli, stop_when
 
 pytestmark = pytest.mark.slow  # end to end: make test-fast leaves it out
 
@@ -30,12 +31,18 @@ def _rows(out: Path) -> list[dict[str, str]]:
         return list(csv.DictReader(file))
 
 
-@pytest.fixture(scope="module")
+@pytest.fixture(scope="session")
 def local_sweep(tmp_path_factory):
-    folder = tmp_path_factory.mktemp("sweep")
-    (folder / "grid.yaml").write_text(GRID)
-    result = run_cli("sweep", folder / "grid.yaml", "--out", folder / "out", "--jobs", "2")
-    return folder, result
+    """The grid swept on local processes into ``out``, made once for all test processes, and
+    what the sweep returned."""
+
+    def make(folder):
+        (folder / "grid.yaml").write_text(GRID)
+        result = run_cli("sweep", folder / "grid.yaml", "--out", folder / "out", "--jobs", "2")
+        save_result(result, folder / "result.json")
+
+    folder = made_once(tmp_path_factory, "local-sweep", make)
+    return folder, load_result(folder / "result.json")
 
 
 def test_a_broken_run_is_reported_and_the_others_finish(local_sweep):
@@ -54,8 +61,9 @@ def test_a_broken_run_is_reported_and_the_others_finish(local_sweep):
     assert progress[-1].endswith(", ETA 0:00")
 
 
-def test_a_rerun_keeps_finished_runs_and_resumes_unfinished_ones(local_sweep):
-    folder, _ = local_sweep
+def test_a_rerun_keeps_finished_runs_and_resumes_unfinished_ones(local_sweep, tmp_path):
+    folder = tmp_path / "sweep"
+    shutil.copytree(local_sweep[0], folder)  # its own copy: other tests read the shared one
     first = (folder / "out" / "sweep.csv").read_text()
     run = folder / "out" / "quadruped-paper-legged-tiny-seed0"
     kept = (run / "evaluation.json").stat().st_mtime_ns
@@ -70,13 +78,10 @@ def test_a_rerun_keeps_finished_runs_and_resumes_unfinished_ones(local_sweep):
     assert (folder / "out" / "sweep.csv").read_text() == first
 
 
-def test_ray_local_gives_the_same_table(local_sweep, tmp_path):
-    pytest.importorskip("ray", reason="Ray is an optional extra: pip install -e '.[ray]'")
+def test_ray_local_gives_the_same_table(local_sweep, local_ray, tmp_path):
     folder, _ = local_sweep
     out = tmp_path / "out"
-    result = run_cli(
-        "sweep", folder / "grid.yaml", "--out", out, "--ray", "local", own_process=True
-    )
+    result = run_cli("sweep", folder / "grid.yaml", "--out", out, "--ray", "local")
     assert result.returncode == 1, result.stderr
     local = {row["run"]: row for row in _rows(folder / "out")}
     for row in _rows(out):
@@ -105,7 +110,7 @@ def test_a_grid_of_worlds_trains_each_body_in_each_world(tmp_path):
     (tmp_path / "grid.yaml").write_text(
         "formations: [quadruped]\nworlds: [flat, ice]\nsim: memo\nreference_trials: 0\n"
         "configs:\n  tiny: {agent: {genetic: {generations: 1, population: 6}, "
-        "learning: {trials: 20}}, task: {trial_steps: 4}, workers: 1}\n"
+        "learning: {trials: 20}}, task: {trial_steps: 4}, workers: 1, local_search: 1}\n"
     )
     result = run_cli("sweep", tmp_path / "grid.yaml", "--out", tmp_path / "out", "--jobs", "2")
     assert result.returncode == 0, result.stderr

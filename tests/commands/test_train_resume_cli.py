@@ -15,6 +15,7 @@ import pytest
 from helpers import (
     assert_same_result,
     finished_generations,
+    made_once,
     run_cli,
     start_cli,
     stop_after,
@@ -29,9 +30,9 @@ MEMO_BUDGET = """\
 workers: {workers}
 local_search: 2
 agent:
-  learning: {{trials: 60}}
-  genetic: {{population: 6, generations: 3}}
-task: {{trial_steps: 5}}
+  learning: {{trials: 40}}
+  genetic: {{population: 4, generations: 3}}
+task: {{trial_steps: 4}}
 """
 
 
@@ -52,19 +53,20 @@ def _train_args(kind: str, tmp_path: Path, out: Path, workers: int = 1) -> list[
     ]  # fmt: skip
 
 
-@pytest.fixture(scope="module")
+@pytest.fixture(scope="session")
 def uninterrupted(tmp_path_factory: pytest.TempPathFactory) -> Callable[[str], tuple[Path, float]]:
-    """The uninterrupted run of each kind (made once), and its wall time (s)."""
-    runs: dict[str, tuple[Path, float]] = {}
+    """The uninterrupted run of each kind, made once for all test processes
+    (:func:`helpers.made_once`), and its wall time (s)."""
 
     def get(kind: str) -> tuple[Path, float]:
-        if kind not in runs:
-            folder = tmp_path_factory.mktemp(f"whole-{kind}")
+        def make(folder: Path) -> None:
             start = time.monotonic()
             result = run_cli(*_train_args(kind, folder, folder / "run"))
             assert result.returncode == 0, result.stderr
-            runs[kind] = (folder / "run", time.monotonic() - start)
-        return runs[kind]
+            (folder / "wall_s.txt").write_text(f"{time.monotonic() - start!r}")
+
+        folder = made_once(tmp_path_factory, f"whole-{kind.replace(' ', '-')}", make)
+        return folder / "run", float((folder / "wall_s.txt").read_text())
 
     return get
 
@@ -143,7 +145,8 @@ def test_a_second_train_is_refused_while_the_first_writes_and_a_dead_ones_lock_i
 
 def test_ctrl_c_saves_and_resume_finishes(tmp_path):
     run = tmp_path / "run"
-    process = start_cli(*_train_args("memo", tmp_path, run, workers=2))
+    # two generations: one finished before Ctrl-C, one for the resume
+    process = start_cli(*_train_args("memo", tmp_path, run, workers=2), "--generations", "2")
     stop_after(process, run, 1, signal.SIGINT)
     out, err = process.communicate(timeout=60)
     assert process.returncode == 130, err
@@ -153,7 +156,7 @@ def test_ctrl_c_saves_and_resume_finishes(tmp_path):
 
     resumed = run_cli("train", "--resume", run)
     assert resumed.returncode == 0, resumed.stderr
-    assert finished_generations(run) == 3 and (run / "summary.json").is_file()
+    assert finished_generations(run) == 2 and (run / "summary.json").is_file()
     again = run_cli("train", "--resume", run)
     assert again.returncode == 0 and "already finished, nothing to resume" in again.stdout
 
@@ -257,8 +260,10 @@ def test_a_snake_with_60_deg_level_spans_trains_with_no_configuration(write_form
              axis: yaw, levels_deg: {min: -30, max: 30, step: 10}}
         """
     )
-    budget = tmp_path / "budget.yaml"  # a small population: nothing about timing
-    budget.write_text("agent: {genetic: {population: 4}}\nlocal_search: 1\n")
+    budget = tmp_path / "budget.yaml"  # a small population, short trials: nothing about timing
+    budget.write_text(
+        "agent: {genetic: {population: 4}}\nlocal_search: 1\ntask: {trial_steps: 4}\n"
+    )
     run = tmp_path / "run"
     result = run_cli(
         "train", formation, "--sim", "memo", "--preset", "paper-snake", "--config", budget,

@@ -9,6 +9,7 @@ still fits the package (imports, names, run folders), in a subprocess as a user 
 from __future__ import annotations
 
 import csv
+import shutil
 import subprocess
 import sys
 from pathlib import Path
@@ -191,15 +192,9 @@ def test_formation_table_reads_a_run_and_a_sweeps_folder(reconfigured):
     assert "left out (train: boom)" in result.stderr
 
 
-def test_adaptation_table_adapts_a_tiny_repertoire(tmp_path):
+def test_adaptation_table_adapts_a_tiny_repertoire(quadruped_repertoire, tmp_path):
     repertoires = tmp_path / "repertoires"
-    built = subprocess.run(
-        [sys.executable, "-m", "qdsega.cli", "repertoire", "quadruped", "--fill", "pybullet",
-         "--evaluations", "8", "--cells", "4", "--workers", "1",
-         "--out", repertoires / "quadruped-seed0"],
-        capture_output=True, text=True, cwd=ROOT, timeout=300, check=False,
-    )  # fmt: skip
-    assert built.returncode == 0, built.stderr
+    shutil.copytree(quadruped_repertoire, repertoires / "quadruped-seed0")
     (tmp_path / "tiny.yaml").write_text(TINY)
     result = script(ON_A_REPERTOIRE, "--repertoires", repertoires, "--seeds", "0", "--trials",
                     "2", "--oracle", "--warm", "--config", tmp_path / "tiny.yaml", "--out",

@@ -12,16 +12,6 @@ from qdsega.training.run_folder import RunFolder
 
 pytestmark = pytest.mark.slow  # end to end: make test-fast leaves it out
 
-ray = pytest.importorskip("ray", reason="Ray is an optional extra: pip install -e '.[ray]'")
-
-
-@pytest.fixture(scope="module")
-def local_ray():
-    from qdsega.workers.ray_cluster import LOCAL, connect
-
-    yield connect(LOCAL)
-    ray.shutdown()
-
 
 def test_a_memo_table_measured_by_ray_actors_equals_the_local_one(local_ray):
     snake5 = load_formation("assemblies/snake5.yaml")
@@ -45,17 +35,19 @@ TINY = "agent: {learning: {trials: 20}, genetic: {population: 4, generations: 2}
 TINY += "task: {trial_steps: 4}\nlocal_search: 1\n"
 
 
-def test_a_run_with_ray_local_learns_what_local_processes_learn(tmp_path):
+def test_a_run_with_ray_local_learns_what_a_run_without_ray_learns(local_ray, tmp_path):
+    """Two Ray actors against one process (what worker processes measure is the same, bit for
+    bit: tests/locomotion/test_memo.py)."""
     from helpers import run_cli
 
     (tmp_path / "tiny.yaml").write_text(TINY)
     runs = {}
-    for name, extra in (("local", []), ("ray", ["--ray", "local"])):
+    ways = {"local": ["--workers", "1"], "ray": ["--workers", "2", "--ray", "local"]}
+    for name, extra in ways.items():
         runs[name] = tmp_path / name
         result = run_cli(
-            "train", "snake5", "--sim", "memo", "--preset", "paper-snake", "--workers", "2",
+            "train", "snake5", "--sim", "memo", "--preset", "paper-snake",
             "--config", tmp_path / "tiny.yaml", "--out", runs[name], "--quiet", *extra,
-            own_process=bool(extra),  # Ray's global state needs a process of its own
         )  # fmt: skip
         assert result.returncode == 0, result.stderr
     memo = RunFolder.TRANSITIONS
