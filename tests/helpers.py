@@ -58,22 +58,10 @@ units:
 """A hub with a leg on each side: five units, four joints."""
 
 
-def run_cli(
-    *args: str | Path, cwd: Path | None = None, own_process: bool = False
-) -> subprocess.CompletedProcess[str]:
-    """Run ``qdsega ARGS`` and capture its text output: in this process (``cli.main``, as
-    fast as a function call), or with ``own_process`` in a subprocess (for what needs one:
-    Ray's global state, the installed entry point)."""
+def run_cli(*args: str | Path, cwd: Path | None = None) -> subprocess.CompletedProcess[str]:
+    """Run ``qdsega ARGS`` in this process (``cli.main``, as fast as a function call) and
+    capture its text output."""
     argv = [str(a) for a in args]
-    if own_process:
-        return subprocess.run(
-            [sys.executable, "-m", "qdsega.cli", *argv],
-            capture_output=True,
-            text=True,
-            cwd=cwd,
-            timeout=300,
-            check=False,
-        )
     from qdsega.cli import main
 
     out, err = io.StringIO(), io.StringIO()
