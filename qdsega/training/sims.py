@@ -232,9 +232,9 @@ def build_sim(
     Raises:
         FormationError: the formation cannot be modelled by that simulator (a snake in the MSM).
     """
-    task = Task(config=config.task, light_xy=formation.light.position_m)
     rules = config.rules(world)
-    if config.sim == "msm":
+    if config.sim == "msm":  # a flat world: the paper's task, no obstacle map
+        task = Task(config=config.task, light_xy=formation.light.position_m)
         legs = LegLayout.from_formation(formation)  # refuses a legless formation
         model = MinimalSimulationModel(legs=legs, params=config.msm)
         optimum = msm_optimum(model, steps=task.trial_steps, light_xy=tuple(task.light))
