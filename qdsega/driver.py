@@ -6,8 +6,9 @@ time left.
 A job is a picklable callable that does its work where it runs and returns None, or its
 error in one line: a job that fails is reported, and the others go on. Jobs resume what a
 crash left (their folders hold their state), so running the same jobs again finishes them;
-one that was finished before (:meth:`Job.kept`) counts as done from the start. Ctrl-C stops
-every job, each keeping its last checkpoint; a job whose driver is killed stops too.
+one that was finished before (:meth:`Job.kept`) counts as done from the start and is not run
+again. Ctrl-C stops every job, each keeping its last checkpoint; a job whose driver is killed
+stops too.
 """
 
 from __future__ import annotations
@@ -99,22 +100,25 @@ def run_jobs(
         if line is not None:
             line.update(counts["done"], f"{counts['failed']} failed")
 
+    for index in sorted(kept):  # finished before: nothing to run
+        ended(index, None)
+    todo = [index for index in range(len(jobs)) if index not in kept]
     try:
         with one_thread_each():
-            if ray is not None:
+            if todo and ray is not None:
                 from qdsega.workers.ray_cluster import connect
 
                 cluster = connect(ray)
                 remote = cluster.remote(num_cpus=1)(run_job)
-                pending = [remote.remote(job) for job in jobs]
-                for index, task in enumerate(pending):
+                pending = {index: remote.remote(jobs[index]) for index in todo}
+                for index, task in pending.items():
                     ended(index, cluster.get(task))
-            else:
+            elif todo:
                 spawn = multiprocessing.get_context("spawn")  # a fresh process for each job
                 with ProcessPoolExecutor(
                     processes, mp_context=spawn, initializer=_stop_with_the_driver
                 ) as pool:
-                    futures = {pool.submit(run_job, job): index for index, job in enumerate(jobs)}
+                    futures = {pool.submit(run_job, jobs[index]): index for index in todo}
                     try:
                         for future in as_completed(futures):
                             ended(futures[future], future.result())
