@@ -37,7 +37,7 @@ from qdsega.locomotion.lower_agent import SETTLE_S, LowerAgent, LowerAgentConfig
 from qdsega.progress import ProgressFactory
 from qdsega.simulation import PhysicsSettings
 from qdsega.simulation.bullet import BulletSimulation
-from qdsega.task import relative_move
+from qdsega.task import Task, relative_move
 from qdsega.workers.pool import Pool, worker_pool
 
 PROGRESS_DELAY_S = 5.0
@@ -230,6 +230,35 @@ def blocked_spots(
             except WorldError:
                 blocked.append(spot)
     return blocked
+
+
+def clear_spots(
+    formation: Formation,
+    *,
+    task: Task,
+    physics: PhysicsSettings,
+    world: World,
+    count: int,
+) -> tuple[tuple[tuple[float, float], ...], list[tuple[float, float]]]:
+    """The ``count`` spots toward ``task``'s light each move would be measured from, and those
+    of them to leave out: where the body cannot stand, or touches an obstacle of ``task``'s
+    map (:mod:`qdsega.obstacle_map`).
+
+    Raises:
+        WorldError: every spot is left out (one line).
+    """
+    spots = spots_toward((float(task.light[0]), float(task.light[1])), count)
+    blocked = blocked_spots(formation, physics=physics, world=world, spots=spots)
+    if task.obstacles is not None:
+        blocked += [s for s in spots if s not in blocked and task.obstacles.touches(*s, 0.0)]
+    if len(blocked) == len(spots):
+        end = spots[-1]
+        raise WorldError(
+            f"{formation.name} touches an obstacle of {world.name} at every place memo mode "
+            f"measures its moves from (from the start to ({end[0]:.2f}, {end[1]:.2f}) m): clear "
+            "the way ahead of the start, or learn with --sim pybullet"
+        )
+    return spots, blocked
 
 
 class _Bench:

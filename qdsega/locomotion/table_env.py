@@ -10,7 +10,9 @@ the table is measured on first use, in this process). So a learner other than QD
 runs at table speed in the same world QDSEGA learns in. The memo world here is the plain
 table, keyed by the posture pair alone, without the corrections a training run's grounding adds;
 on ground other than the flat plane (``world``) each move is measured from ``spots`` places
-along the way to the light, as a training run's table is.
+along the way to the light, as a training run's table is. Where obstacles stand, the body senses
+them and a move into one is lost, by the same rules as training (:mod:`qdsega.task`), and no
+move is measured where the body would touch one.
 
 Registered with Gymnasium as ``qdsega/TableLocomotion-v0`` when :mod:`qdsega` is imported::
 
@@ -69,8 +71,13 @@ class TableLocomotionEnv(gym.Env[np.ndarray, np.ndarray]):
             formation = load_formation(resolve_formation(Path(formation)))
         formation = world.lights(formation)
         self.formation = formation
-        self.task = Task(config=task or TaskConfig(), light_xy=formation.light.position_m)
-        self.provider = _provider(formation, sim, msm or MSMParameters(), world, spots)
+        if sim == "msm":
+            self.task = Task(config=task or TaskConfig(), light_xy=formation.light.position_m)
+            self.provider: TransitionProvider = MinimalSimulationModel(
+                legs=LegLayout.from_formation(formation), params=msm or MSMParameters()
+            )
+        else:
+            self.task, self.provider = _memo(formation, task or TaskConfig(), world, spots)
         levels = [len(joint.levels_rad) for joint in formation.joints]
         self.action_space = gym.spaces.MultiDiscrete(levels)
         self.observation_space = gym.spaces.MultiDiscrete([*levels, self.task.n_exterior])
@@ -122,18 +129,26 @@ class TableLocomotionEnv(gym.Env[np.ndarray, np.ndarray]):
         }
 
 
-def _provider(
-    formation: Formation, sim: str, msm: MSMParameters, world: World, spots: int
-) -> TransitionProvider:
-    if sim == "msm":
-        return MinimalSimulationModel(legs=LegLayout.from_formation(formation), params=msm)
-    from qdsega.locomotion.lower_agent import LowerAgentConfig  # starts PyBullet: only here
-    from qdsega.locomotion.memo import MeasuredTransitions, spots_toward
+def _memo(
+    formation: Formation, config: TaskConfig, world: World, spots: int
+) -> tuple[Task, TransitionProvider]:
+    """The task with ``world``'s obstacles, and the memo table measured from the ``spots``
+    places the body stands clear at."""
+    # Imported here: they start PyBullet, which the MSM does not need.
+    from qdsega.locomotion.lower_agent import LowerAgentConfig
+    from qdsega.locomotion.memo import MeasuredTransitions, clear_spots
+    from qdsega.locomotion.surroundings import world_task
+    from qdsega.simulation import PhysicsSettings
 
-    return MeasuredTransitions(
+    physics = PhysicsSettings()
+    task = world_task(formation, config, world, physics)
+    every, blocked = clear_spots(formation, task=task, physics=physics, world=world, count=spots)
+    memo = MeasuredTransitions(
         formation=formation,
         lower_agent=LowerAgentConfig(),
+        physics=physics,
         workers=1,
         world=world,
-        spots=spots_toward(formation.light.position_m, spots),
+        spots=tuple(spot for spot in every if spot not in blocked),
     )
+    return task, memo

@@ -29,7 +29,7 @@ from qdsega.agent.model import StepModel, TransitionProvider
 from qdsega.agent.policy import Policy, Rollout
 from qdsega.agent.verification import Verification
 from qdsega.description import Formation, World
-from qdsega.errors import ConfigError, FormationError, QdsegaWarning, WorldError
+from qdsega.errors import ConfigError, FormationError, QdsegaWarning
 from qdsega.msm import LegLayout, MinimalSimulationModel, Optimum, msm_optimum
 from qdsega.progress import ProgressFactory
 from qdsega.task import Task
@@ -283,17 +283,16 @@ def memo_starts(
     Raises:
         WorldError: every place is left out (one line).
     """
-    from qdsega.locomotion.memo import blocked_spots, spots_toward
+    from qdsega.locomotion.memo import clear_spots
     from qdsega.locomotion.surroundings import world_task
 
-    task = task or world_task(formation, config.task, world, config.physics)
-    spots = spots_toward(tuple(task.light), memo_spots(config, world))
-    blocked = blocked_spots(formation, physics=config.physics, world=world, spots=spots)
-    if task.obstacles is not None:
-        blocked += [s for s in spots if s not in blocked and task.obstacles.touches(*s, 0.0)]
-    if len(blocked) == len(spots):
-        raise WorldError(_every_spot_blocked(formation, world, spots))
-    return spots, blocked
+    return clear_spots(
+        formation,
+        task=task or world_task(formation, config.task, world, config.physics),
+        physics=config.physics,
+        world=world,
+        count=memo_spots(config, world),
+    )
 
 
 def build_verification(config: TrainingConfig) -> Verification:
@@ -328,18 +327,6 @@ def _blocked(
         f"{len(spots)} places memo mode measures each move from in {world.name} (x, y m: "
         f"{where}): the table measures its moves from the other {len(spots) - len(blocked)}, "
         "and exact replays show where the body is stopped"
-    )
-
-
-def _every_spot_blocked(
-    formation: Formation, world: World, spots: tuple[tuple[float, float], ...]
-) -> str:
-    """The one-line refusal where no place memo mode measures from is clear of obstacles."""
-    end = spots[-1]
-    return (
-        f"{formation.name} touches an obstacle of {world.name} at every place memo mode "
-        f"measures its moves from (from the start to ({end[0]:.2f}, {end[1]:.2f}) m): clear "
-        "the way ahead of the start, or learn with --sim pybullet"
     )
 
 

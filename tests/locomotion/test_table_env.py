@@ -113,3 +113,19 @@ def test_a_memo_env_measures_in_its_world_and_the_msm_knows_none():
     assert covered[1] != covered[0]  # the same postures move the body otherwise on ice
     with pytest.raises(ValueError, match="the MSM knows no terrain"):
         TableLocomotionEnv(formation="quadruped", sim="msm", world=ice)
+
+
+def test_a_memo_env_senses_obstacles_and_measures_clear_of_them(tmp_path):
+    file = tmp_path / "post.yaml"
+    file.write_text(
+        "name: post\nboxes:\n  - {xyz_m: [0.5, 0.0, 0.1], size_m: [0.1, 0.1, 0.2]}\n",
+        encoding="utf-8",
+    )
+    env = TableLocomotionEnv(formation="snake5", sim="memo", world=load_world(file), spots=2)
+    try:
+        assert env.observation_space.nvec[-1] == 12  # the light's 4 bins x 3 sensed states
+        assert env.provider.spots == ((0.0, 0.0),)  # at 0.25 m its head would touch the post
+        observation, _ = env.reset(seed=0)
+        assert observation[-1] >= 4  # the post is sensed ahead
+    finally:
+        env.close()
