@@ -4,6 +4,7 @@ of old bit for bit, and a bad world file is one line with its file, line and key
 from __future__ import annotations
 
 import time
+from pathlib import Path
 
 import gymnasium as gym
 import numpy as np
@@ -139,3 +140,10 @@ def test_an_unknown_world_name_lists_the_shipped_ones():
 def test_a_world_is_uniform_when_nothing_but_its_grip_differs_from_the_plane(name, uniform, plane):
     world = load_world(resolve_world(name))
     assert world.is_uniform is uniform and world.is_plane is plane
+
+
+
+@pytest.mark.parametrize("name", ["posts", "cross_slope"])
+def test_the_worlds_of_the_experiments_load(name):
+    file = Path(__file__).resolve().parents[2] / "experiments" / "worlds" / f"{name}.yaml"
+    assert load_world(file).name == name
