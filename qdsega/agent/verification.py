@@ -68,19 +68,17 @@ class Verification:
             policies.append(learner.explore(generation, upper, rng))
         return [*policies, generation.policy]
 
-    def neighbours(self, index: int, levels: np.ndarray, count: int | None = None) -> list[Policy]:
+    def neighbours(self, index: int, levels: np.ndarray) -> list[Policy]:
         """Generation ``index``'s local-search gaits around the best trial told so far,
-        to play open loop (``levels``: each joint's level count; ``count`` of them, default
-        ``local_search``: the first ``local_search`` are the same either way)."""
-        count = self.local_search if count is None else count
-        if count == 0 or self._best is None:
+        to play open loop (``levels``: each joint's level count)."""
+        if self.local_search == 0 or self._best is None:
             return []
         rng = np.random.default_rng([self.seed, index, _SEARCH_STREAM])
         return [
             SequencePolicy(
                 commands=vary_gait(self._best[0], levels, rng, phase_share=self.phase_moves)
             )
-            for _ in range(count)
+            for _ in range(self.local_search)
         ]
 
     def tell(self, trials: Sequence[Rollout]) -> None:

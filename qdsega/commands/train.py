@@ -202,12 +202,10 @@ def prediction_warning(summary: dict[str, Any]) -> str | None:
     error = summary["prediction_error"]
     if summary["sim"] != "memo" or error is None or abs(error) <= PREDICTION_TOLERANCE:
         return None
-    after = summary.get("exact_search_after")
-    searched = "" if after is None else f"; after generation {after} it searched in exact physics"
     return (
         f"the table's prediction is {error:+.0%} off exact physics (more than "
         f"{PREDICTION_TOLERANCE:.0%}): the table did not hold where this run went (varied "
-        f"ground: docs/worlds.md){searched}; the distance above is exact physics"
+        "ground: docs/worlds.md); the distance above is exact physics"
     )
 
 

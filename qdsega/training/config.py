@@ -88,11 +88,6 @@ class TrainingConfig:
             exact physics each generation, the best one's postures kept in the population
             (:class:`qdsega.agent.verification.Verification`); 0 for none (-). 10: it lifts the
             worst seeds most, for about twice the wall time (docs/algorithm.md).
-        exact_search: memo mode: once the table has mispredicted the greedy policy by more
-            than 10 % three generations in a row (it does not hold where the run goes), the
-            local search plays this many neighbours each generation from then on, so that the
-            run learns in exact physics what the table cannot tell it; at most
-            ``local_search`` keeps the search as it is (-).
         phase_moves: the share of local-search neighbours that shift one joint's commands one
             step in time instead of moving one level (:func:`qdsega.agent.genetic.vary_gait`),
             in [0, 1] (-). 0: every neighbour a level move (0.5 measured mixed;
@@ -119,7 +114,6 @@ class TrainingConfig:
     explore_trials: int = 4
     optimism: float = 1.0
     local_search: int = 10
-    exact_search: int = 40
     phase_moves: float = 0.0
     memo_spots: int | None = None
 
@@ -130,8 +124,6 @@ class TrainingConfig:
             raise ValueError(f"explore_trials must not be negative, got {self.explore_trials}")
         if self.local_search < 0:
             raise ValueError(f"local_search must not be negative, got {self.local_search}")
-        if self.exact_search < 0:
-            raise ValueError(f"exact_search must not be negative, got {self.exact_search}")
         if not 0.0 <= self.phase_moves <= 1.0:
             raise ValueError(f"phase_moves must be in [0, 1], got {self.phase_moves}")
         if self.memo_spots is not None and self.memo_spots < 1:

@@ -425,8 +425,7 @@ def _run(
                         handed_on = _verify_path(sim, verification, learner, path)
                         _record_handed_on(folder, handed_on)
                     generation = learner.step()
-                    search = _search_size(config, checkpoint.metrics)
-                    exact = _verify_generation(sim, verification, learner, generation, search)
+                    exact = _verify_generation(sim, verification, learner, generation)
                     elapsed = first_elapsed + time.perf_counter() - session_start
                     sim_steps = simulated + sim.simulated_steps()
                     world = {**sim.state(), **verification.state()}
@@ -442,7 +441,7 @@ def _run(
                         warnings.warn(_hopeless(failed, generation.index), QdsegaWarning, 2)
                     misses = table_misses(checkpoint.metrics)
                     if sim.exact is not None and misses == MISSES_TO_WARN:
-                        warnings.warn(_unheld(checkpoint.metrics, config), QdsegaWarning, 2)
+                        warnings.warn(_unheld(checkpoint.metrics), QdsegaWarning, 2)
                     if progress is not None:
                         report = _report(
                             checkpoint, generation, exact, config, session_start, resumed_at
@@ -597,9 +596,6 @@ def _finish(
         "result_generation": checkpoint.result,
         "greedy_distance": greedy_distance,
         "prediction_error": _relative_error(greedy_distance, distance),
-        "exact_search_after": unheld_since(checkpoint.metrics)
-        if config.sim == "memo" and config.exact_search > config.local_search
-        else None,
         "optimum": None if optimum is None else optimum.bound_m,
         "optimum_proven": None if optimum is None else optimum.proven,
         "greedy_over_optimum": None if optimum is None else distance / optimum.bound_m,
@@ -627,15 +623,10 @@ def _verify_path(
 
 
 def _verify_generation(
-    sim: TrainingSim,
-    verification: Verification,
-    learner: QDSEGA,
-    generation: Generation,
-    search: int,
+    sim: TrainingSim, verification: Verification, learner: QDSEGA, generation: Generation
 ) -> Rollout:
     """Play what the learner asks of exact physics for ``generation`` (nothing where its world
-    is exact), with ``search`` local-search neighbours, and tell it; returns the greedy
-    policy's exact trial."""
+    is exact) and tell it; returns the greedy policy's exact trial."""
     if sim.exact is None:
         sim.count([generation.greedy])
         learner.verify(generation.greedy)
@@ -643,7 +634,7 @@ def _verify_generation(
     played = sim.play(verification.ask(learner, generation, sim.grounded))
     greedy = played[-1]
     verification.tell([greedy])
-    searched = sim.play(verification.neighbours(generation.index, learner.levels, search))
+    searched = sim.play(verification.neighbours(generation.index, learner.levels))
     verification.tell(searched)
     sim.observe([*played[:-1], *searched, greedy], generation.space.postures[0])
     for trial in [greedy, *searched]:
@@ -683,28 +674,7 @@ def table_misses(metrics: np.ndarray) -> int:
     return misses
 
 
-def unheld_since(metrics: np.ndarray) -> int | None:
-    """The generation (``metrics.csv``'s rows) after which the learner's model had
-    mispredicted the greedy policy ``MISSES_TO_WARN`` generations in a row, or None: from the
-    next one on, the run searches in exact physics (``exact_search``)."""
-    misses = 0
-    for row in metrics:
-        error = _relative_error(float(row[_GREEDY]), float(row[_GREEDY_EXACT]))
-        misses = misses + 1 if error is not None and abs(error) > PREDICTION_TOLERANCE else 0
-        if misses == MISSES_TO_WARN:
-            return int(row[0])
-    return None
-
-
-def _search_size(config: TrainingConfig, metrics: np.ndarray) -> int:
-    """Local-search neighbours for the next generation: ``exact_search`` once the table has
-    not held (:func:`unheld_since`), else ``local_search``."""
-    if unheld_since(metrics) is None:
-        return config.local_search
-    return max(config.local_search, config.exact_search)
-
-
-def _unheld(metrics: np.ndarray, config: TrainingConfig) -> str:
+def _unheld(metrics: np.ndarray) -> str:
     """The one-line warning for a memo run whose table keeps mispredicting."""
     last = metrics[-MISSES_TO_WARN:]
     errors = [_relative_error(float(r[_GREEDY]), float(r[_GREEDY_EXACT])) for r in last]
@@ -713,15 +683,8 @@ def _unheld(metrics: np.ndarray, config: TrainingConfig) -> str:
     return (
         f"generations {first}-{end}: the table's predictions were off exact physics by "
         f"{shown} (more than {PREDICTION_TOLERANCE:.0%}): it does not hold where this run goes "
-        f"(varied ground: docs/worlds.md); the run is judged in exact physics{_searching(config)}"
+        "(varied ground: docs/worlds.md); the run is judged in exact physics"
     )
-
-
-def _searching(config: TrainingConfig) -> str:
-    """What a run does once its table has not held, as the warnings say it."""
-    if config.exact_search <= config.local_search:
-        return ""
-    return f", and learns in it: {config.exact_search} local-search trials a generation from now on"
 
 
 def _relative_error(predicted: float, exact: float) -> float | None:

@@ -86,13 +86,3 @@ def test_with_a_grounded_table_exploring_trials_come_first_and_the_greedy_one_la
     asked = plan.ask(None, generation, grounded=object())  # type: ignore[arg-type]
     assert len(asked) == 4 and asked[-1] is generation.policy
     assert all(isinstance(p, BoltzmannPolicy) and p.temperature == 0.5 for p in asked[:3])
-
-
-def test_a_larger_search_begins_with_the_same_neighbours():
-    plan = Verification(local_search=3, seed=7)
-    (greedy,) = _play(plan.ask(None, _generation(1), None))  # type: ignore[arg-type]
-    plan.tell([greedy])
-    few, many = plan.neighbours(2, LEVELS), plan.neighbours(2, LEVELS, count=8)
-    assert len(few) == 3 and len(many) == 8
-    pairs = zip(_play(few), _play(many[:3]), strict=True)
-    assert all(np.array_equal(a.postures, b.postures) for a, b in pairs)
