@@ -1,7 +1,7 @@
 """Can the shipped snakes climb the shipped slope? The best gaits of several kinds, exact physics.
 
 Usage: .venv/bin/python experiments/snake_slope/run.py [--quick] [--bodies snake5,snake10]
-           [--stages references,wide,headings,angles] [--angles 0,2,4,6,8]
+           [--stages references,wide,headings,angles,flat_gait] [--angles 0,2,4,6,8]
            [--cma-trials 600] [--short-cma-trials 66] [--cycles 2,3,4,6,8] [--offsets 0,5,10]
            [--steps 30] [--json OUT.json]
        .venv/bin/python experiments/snake_slope/run.py --tables OUT.json [MORE.json ...]
@@ -24,6 +24,8 @@ toward the light (+x, where ``slope`` rises). Stages:
 - ``angles``: worlds of 0..8 deg rising toward the light (YAML, ``ground: {slope: ...}``): the
   body at rest, the serpenoid grid's best and a CMA-ES CPG search (``--short-cma-trials``
   trials; where a ``--cma-trials`` search is cached, as on flat and at 8 deg, that one too).
+- ``flat_gait``: the CMA-ES gait the package ships for flat ground, replayed at every angle
+  (one trial each).
 
 ``--quick`` shrinks every stage to seconds (snake5, 0 and 8 deg, one CMA-ES generation, a
 four-gait wide grid), to check that the script runs.
@@ -58,7 +60,7 @@ from qdsega.locomotion.env import LocomotionEnv, replay_postures, rules_env
 from qdsega.locomotion.rules import ExactRules
 from qdsega.task import TaskConfig
 
-STAGES = ("references", "wide", "headings", "angles")
+STAGES = ("references", "wide", "headings", "angles", "flat_gait")
 SLOPE_DEG = 8.0
 """The shipped ``slope`` world's angle (deg)."""
 HEADINGS_DEG = (0, 45, 90, 135, 180)
@@ -346,6 +348,20 @@ def stage_angles(
     return rows
 
 
+def stage_flat_gait(
+    formation: Formation, folder: Path, steps: int, angles: list[float], budget: int
+) -> list[dict[str, Any]]:
+    """The CMA-ES gait searched on flat ground (shipped), replayed at every angle."""
+    rows = []
+    for angle in angles:
+        trials = Trials(formation, slope_world(folder, angle), steps)
+        try:
+            rows.append({"angle_deg": angle, "flat_cpg": flat_cpg_on(trials, budget)})
+        finally:
+            trials.close()
+    return rows
+
+
 # -- tables ------------------------------------------------------------------------------------
 
 
@@ -453,6 +469,20 @@ def print_tables(results: dict[str, Any]) -> None:
                     f"| {metres(best)} |"
                 )
         print()
+    if any("flat_gait" in b for b in bodies.values()):
+        print_flat_gait(bodies)
+
+
+def print_flat_gait(bodies: dict[str, Any]) -> None:
+    print("3b. The CMA-ES gait searched on flat ground (shipped, 600 trials) at each angle (m)")
+    names = [name for name, body in bodies.items() if "flat_gait" in body]
+    angles = sorted({row["angle_deg"] for name in names for row in bodies[name]["flat_gait"]})
+    print(f"| body | {' | '.join(f'{a:g} deg' for a in angles)} |")
+    print(f"|---|{'---|' * len(angles)}")
+    for name in names:
+        found = {row["angle_deg"]: row["flat_cpg"] for row in bodies[name]["flat_gait"]}
+        print(f"| {name} | {' | '.join(metres(found.get(a)) for a in angles)} |")
+    print()
 
 
 def number_list(text: str, name: str) -> list[float]:
@@ -480,8 +510,17 @@ def main() -> int:
     args = parser.parse_args()
     if args.tables:
         merged: dict[str, Any] = {"bodies": {}}
-        for file in args.tables:
-            merged["bodies"].update(json.loads(file.read_text(encoding="utf-8"))["bodies"])
+        for file in args.tables:  # a later file's angles join an earlier one's
+            for name, body in json.loads(file.read_text(encoding="utf-8"))["bodies"].items():
+                kept = merged["bodies"].setdefault(name, {})
+                joined = {
+                    stage: kept.get(stage, []) + body.get(stage, [])
+                    for stage in ("angles", "flat_gait")
+                }
+                kept.update(body)
+                for stage, rows in joined.items():
+                    if rows:
+                        kept[stage] = sorted(rows, key=lambda row: row["angle_deg"])
         print_tables(merged)
         return 0
     stages = args.stages.split(",")
@@ -515,6 +554,8 @@ def main() -> int:
                     body[stage] = stage_wide(formation, folder, args.steps, grid)
                 elif stage == "headings":
                     body[stage] = stage_headings(formation, folder, args.steps, best_gait(body))
+                elif stage == "flat_gait":
+                    body[stage] = stage_flat_gait(formation, folder, args.steps, angles, budget)
                 else:
                     body[stage] = stage_angles(
                         formation, folder, args.steps, angles, short, budget, body.get("references")
