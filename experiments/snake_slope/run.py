@@ -28,7 +28,7 @@ toward the light (+x, where ``slope`` rises). Stages:
   (one trial each).
 
 ``--quick`` shrinks every stage to seconds (snake5, 0 and 8 deg, one CMA-ES generation, a
-four-gait wide grid), to check that the script runs.
+two-gait wide grid), to check that the script runs.
 """
 
 from __future__ import annotations
