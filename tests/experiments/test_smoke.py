@@ -58,6 +58,7 @@ TINY_RUNS = {
         "--settle", "0.5,0.25", "--steps", "2", "--repeats", "1", "--copies", "1,2",
         "--copy-seconds", "0.5",
     ),
+    "experiments/snake_slope/run.py": ("--quick", "--steps", "2"),
 }  # fmt: skip
 ON_A_REPERTOIRE = "experiments/adaptation/adaptation_table.py"
 ON_A_RUN = (  # run below on the tiny runs reconfiguration_table.py makes
