@@ -142,7 +142,6 @@ def test_a_world_is_uniform_when_nothing_but_its_grip_differs_from_the_plane(nam
     assert world.is_uniform is uniform and world.is_plane is plane
 
 
-
 @pytest.mark.parametrize("name", ["posts", "cross_slope", "downhill"])
 def test_the_worlds_of_the_experiments_load(name):
     file = Path(__file__).resolve().parents[2] / "experiments" / "worlds" / f"{name}.yaml"
