@@ -256,17 +256,16 @@ def learn_on_table(
                 else:
                     fails = context_failed[r, a]
                     mx, my, mt = context_dx[r, a], context_dy[r, a], context_dtheta[r, a]
-            x_new, y_new = x, y
-            if not fails:
-                x_new, y_new = move_position(x, y, cos_theta, sin_theta, mx, my)
-                if stopped(near, geometry, outline, x_new, y_new, theta + mt):
-                    x_new, y_new, mt = x, y, 0.0  # run into an obstacle: the move is lost
             if fails:
                 q[s, a] = (1.0 - alpha) * old + alpha * penalty
                 _update_stats(s, a, q[s, a], stats, arg)
                 fell[trial] = True
                 break
-            x, y = x_new, y_new
+            x_new, y_new = move_position(x, y, cos_theta, sin_theta, mx, my)
+            if stopped(near, geometry, outline, x_new, y_new, theta + mt):
+                mt = 0.0  # run into an obstacle: the move is lost
+            else:
+                x, y = x_new, y_new
             theta += mt
             cos_theta, sin_theta = math.cos(theta), math.sin(theta)
             d_new = math.hypot(light_x - x, light_y - y)
