@@ -89,7 +89,9 @@ class Scene:
         self.light_xy = move_pose(*self._origin, *light.position_m, 0.0)[:2]
         """Where the light stands in the world (m)."""
         if pictures or window:
-            self.sim.add_light(self.light_xy, radius_m=max(0.1, LIGHT_RADIUS_FRACTION * light.distance_m))
+            self.sim.add_light(
+                self.light_xy, radius_m=max(0.1, LIGHT_RADIUS_FRACTION * light.distance_m)
+            )
             self._body_extent_m = body_extent_m(self.sim.unit_states()[0])  # at rest: framing
         self._start_state = self.sim.save_state()
 
