@@ -52,11 +52,11 @@ class Scene:
         start_rad: the start posture (rad), shape (J,).
         pictures: render camera pictures (:meth:`picture`) off-screen, with pybullet's EGL
             plugin or its TinyRenderer (with a :class:`~qdsega.errors.QdsegaWarning`).
-        window: open PyBullet's window (:meth:`aim_window`).
+        window: open PyBullet's window (:meth:`aim_window`); where there is no display, a
+            :class:`~qdsega.errors.QdsegaWarning` says so and none opens.
 
     Raises:
         WorldError: the body starts inside an obstacle.
-        DisplayError: a window where there is no display.
     """
 
     def __init__(
@@ -70,7 +70,6 @@ class Scene:
         pictures: bool = False,
         window: bool = False,
     ) -> None:
-        self.formation = formation
         self.start_rad = start_rad
         self.sim = BulletSimulation(
             robot=assemble(formation), settings=physics, egl=pictures, world=world, window=window
