@@ -1,7 +1,9 @@
 """The assembler: a :class:`Formation` becomes one self-contained URDF text.
 
 Same formation, byte-identical URDF: numbers are printed with a fixed format and elements in
-formation order.
+formation order. Each link carries its lateral friction in PyBullet's ``<contact>`` extension;
+anisotropic friction has no URDF element PyBullet reads, so the file names it in a comment and
+:mod:`qdsega.simulation.bullet` sets it when it loads the body.
 """
 
 from __future__ import annotations
@@ -18,7 +20,7 @@ from trimesh.transformations import euler_from_matrix, euler_matrix, rotation_ma
 
 from qdsega.assembly.mass_properties import MassProperties, link_mass_properties
 from qdsega.assembly.urdf_checks import check_urdf
-from qdsega.description.formation import Formation, PlacedUnit
+from qdsega.description.formation import Formation, Friction, PlacedUnit
 from qdsega.description.unit_type import LINK_PLACEHOLDER, Connector
 from qdsega.errors import FormationError
 
@@ -106,6 +108,7 @@ def _link(
         except FormationError as exc:
             raise FormationError(exc.message, file=unit_type.template_file) from None
     link.insert(0, _inertial(properties[unit_type.name]))
+    link.insert(1, _contact(unit.friction))
     assets = {}
     for mesh in link.iter("mesh"):
         source = (unit_type.folder / mesh.get("filename", "")).resolve()
@@ -132,6 +135,21 @@ def _inertial(props: MassProperties) -> ET.Element:
         izz=_number(i[2, 2]),
     )
     return inertial
+
+
+def _contact(friction: Friction) -> ET.Element:
+    """PyBullet's URDF ``<contact>``: the lateral friction, and a comment naming an anisotropic
+    friction that PyBullet's URDF reader has no element for."""
+    contact = ET.Element("contact")
+    ET.SubElement(contact, "lateral_friction", value=_number(friction.lateral))
+    if not friction.is_isotropic:
+        contact.append(
+            ET.Comment(
+                f" anisotropic friction x y z: {_vector(friction.anisotropic)} (no URDF element "
+                "PyBullet reads carries it; qdsega sets it with changeDynamics) "
+            )
+        )
+    return contact
 
 
 def _joint(unit: PlacedUnit, connector: Connector) -> ET.Element:
