@@ -59,6 +59,8 @@ def run(args: argparse.Namespace) -> int:
 
     if args.output is not None and len(args.formations) > 1:
         raise ConfigError("-o/--output takes one formation; use --out-dir for several")
+    if args.mjcf and args.output is not None and args.output.suffix == ".xml":
+        raise ConfigError(f"--mjcf writes {args.output} beside the URDF: name the URDF *.urdf")
     rows = []
     for file in args.formations:
         start = time.perf_counter()
@@ -79,8 +81,6 @@ def run(args: argparse.Namespace) -> int:
         )
         if args.mjcf:
             mjcf = out.with_suffix(".xml")
-            if mjcf == out:
-                raise ConfigError(f"--mjcf writes {mjcf} beside the URDF: name the URDF *.urdf")
             write_mjcf(robot, mjcf)
             row += (str(mjcf),)
         rows.append(row)
