@@ -1,9 +1,10 @@
 """MJCF, MuJoCo's XML model format, of an assembled formation.
 
-It is read from the assembled URDF, the one home of the geometry and the friction: each link
-becomes a body (the root with a free joint), each revolute joint a hinge with its range, each
-inertial, collision and visual shape its MuJoCo counterpart, each lateral friction the friction
-of the link's collision geoms. Each actuated joint gets a position actuator, in formation order
+It is read from the assembled URDF, the one home of the geometry: each link becomes a body
+(the root with a free joint), each revolute joint a hinge with its range, each inertial,
+collision and visual shape its MuJoCo counterpart; each unit's lateral friction becomes the
+friction of its collision geoms (an anisotropic one is named in a comment: a MuJoCo geom
+slides alike every way). Each actuated joint gets a position actuator, in formation order
 (``ctrl`` takes a posture as :meth:`Formation.posture_rad` gives it). A floor and a ``rest``
 keyframe (the rest posture just above the floor) make the file a scene that MuJoCo loads and
 steps as it is. What differs from PyBullet, and why: docs/formations.md.
@@ -23,6 +24,7 @@ from trimesh.transformations import quaternion_from_euler, rotation_matrix
 
 from qdsega.assembly.assembler import AssembledRobot, number_text, vector_text, write_model
 from qdsega.assembly.mass_properties import origin_transform, shape_mesh
+from qdsega.description.formation import PlacedUnit
 from qdsega.errors import FormationError
 
 FULL_TORQUE_ERROR_RAD = math.radians(5.0)
@@ -62,7 +64,7 @@ def assemble_mjcf(robot: AssembledRobot) -> str:
     body = ET.SubElement(world, "body", name=root, pos=vector_text((0.0, 0.0, zero)))
     ET.SubElement(body, "freejoint", name="root")
     hinges: list[str] = []
-    _fill_body(body, root, links, joints_of, hinges)
+    _fill_body(body, root, links, joints_of, formation.units_by_name, hinges)
 
     actuators = ET.SubElement(model, "actuator")
     for actuated in formation.joints:
@@ -107,6 +109,7 @@ def _fill_body(
     link_name: str,
     links: Mapping[str, ET.Element],
     joints_of: Mapping[str, list[ET.Element]],
+    units: Mapping[str, PlacedUnit],
     hinges: list[str],
 ) -> None:
     """Give ``body`` the link's inertial and shapes, then nest its children's bodies; the
@@ -123,14 +126,21 @@ def _fill_body(
         mass=_get(inertial, "mass", "value"),
         fullinertia=" ".join(i.values()),
     )
-    friction = _get(link, "contact/lateral_friction", "value")
+    friction = units[link_name].friction
     for visual in link.findall("visual"):
         color = visual.find("material/color")
         geom = _geom(body, visual, contype="0", conaffinity="0", group="2")
         if color is not None:
             geom.set("rgba", color.get("rgba", "0.5 0.5 0.5 1"))
     for collision in link.findall("collision"):
-        _geom(body, collision, group="3", friction=friction, priority="1")
+        _geom(body, collision, group="3", friction=number_text(friction.lateral), priority="1")
+    if not friction.is_isotropic:
+        body.append(
+            ET.Comment(
+                f" anisotropic friction x y z: {vector_text(friction.anisotropic)} (not carried: "
+                "a MuJoCo geom slides alike every way) "
+            )
+        )
     for joint in joints_of[link_name]:
         child = _get(joint, "child", "link")
         origin = joint.find("origin")
@@ -150,7 +160,7 @@ def _fill_body(
                 damping=number_text(effort / speed),
             )
             hinges.append(joint.get("name", ""))
-        _fill_body(child_body, child, links, joints_of, hinges)
+        _fill_body(child_body, child, links, joints_of, units, hinges)
 
 
 def _geom(body: ET.Element, shape: ET.Element, **attributes: str) -> ET.Element:
