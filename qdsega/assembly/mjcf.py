@@ -22,7 +22,7 @@ import numpy as np
 import trimesh
 from trimesh.transformations import quaternion_from_euler, rotation_matrix
 
-from qdsega.assembly.assembler import AssembledRobot, number_text, vector_text, write_model
+from qdsega.assembly.assembler import AssembledRobot, number_text, vector_text
 from qdsega.assembly.mass_properties import origin_transform, shape_mesh
 from qdsega.description.formation import PlacedUnit
 from qdsega.errors import FormationError
@@ -37,7 +37,8 @@ MESH_SUFFIXES = (".stl", ".obj", ".msh")
 
 
 def assemble_mjcf(robot: AssembledRobot) -> str:
-    """The MJCF text of ``robot``, on a floor; mesh files are those of the URDF (``assets/``).
+    """The MJCF text of ``robot``, on a floor; its mesh files are the URDF's (``assets/``:
+    write them with :func:`~qdsega.assembly.assembler.write_model`).
 
     Joints are damped by ``effort / velocity`` (N m s/rad): a motor at its torque limit then
     runs at the joint's speed limit, which MuJoCo's actuators have no setting for.
@@ -97,11 +98,6 @@ def assemble_mjcf(robot: AssembledRobot) -> str:
     )
     ET.indent(model, space="  ")
     return ET.tostring(model, encoding="unicode") + "\n"
-
-
-def write_mjcf(robot: AssembledRobot, out: Path) -> None:
-    """Write the MJCF of ``robot`` to ``out`` and its mesh files next to it; all or nothing."""
-    write_model(assemble_mjcf(robot), robot.assets, out)
 
 
 def _fill_body(
@@ -230,7 +226,8 @@ def _collision_mesh(collision: ET.Element, assets: Mapping[str, Path]) -> trimes
 
 def _quat(rpy: str) -> str:
     """URDF roll, pitch, yaw (fixed axes x, y, z) as MuJoCo's quaternion (w, x, y, z)."""
-    return vector_text(tuple(quaternion_from_euler(*(float(a) for a in rpy.split()), axes="sxyz")))
+    roll, pitch, yaw = (float(a) for a in rpy.split())
+    return vector_text(tuple(quaternion_from_euler(roll, pitch, yaw, axes="sxyz")))
 
 
 def _get(element: ET.Element, path: str, key: str) -> str:

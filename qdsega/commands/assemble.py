@@ -53,7 +53,8 @@ def run(args: argparse.Namespace) -> int:
     # Imported here: the assembler loads trimesh (about 1 s) and the reach check PyBullet,
     # which the other commands need not.
     from qdsega.assembly import assemble, write_assembly
-    from qdsega.assembly.mjcf import write_mjcf
+    from qdsega.assembly.assembler import write_model
+    from qdsega.assembly.mjcf import assemble_mjcf
     from qdsega.description import load_formation, resolve_formation
     from qdsega.simulation.reach import check_reach
 
@@ -67,10 +68,11 @@ def run(args: argparse.Namespace) -> int:
         formation = load_formation(resolve_formation(file))
         robot = assemble(formation)
         check_reach(robot, allow_blocked=args.allow_blocked)
+        mjcf_text = assemble_mjcf(robot) if args.mjcf else None  # refused before any file
         elapsed_ms = 1000.0 * (time.perf_counter() - start)
         out = args.output or (args.out_dir or Path.cwd()) / f"{formation.name}.urdf"
         write_assembly(robot, out)
-        row = (
+        row: tuple[str, ...] = (
             formation.name,
             str(len(formation.units)),
             str(len(formation.joints)),
@@ -79,9 +81,9 @@ def run(args: argparse.Namespace) -> int:
             f"{elapsed_ms:.1f}",
             str(out),
         )
-        if args.mjcf:
+        if mjcf_text is not None:
             mjcf = out.with_suffix(".xml")
-            write_mjcf(robot, mjcf)
+            write_model(mjcf_text, robot.assets, mjcf)
             row += (str(mjcf),)
         rows.append(row)
     header = ("formation", "units", "joints", "legs", "mass_kg", "assemble_ms", "urdf")
