@@ -144,16 +144,18 @@ class BulletSimulation:
         }
 
     def _apply_friction(self) -> None:
+        """The ground's friction, and each unit's anisotropic friction: the URDF carries the
+        units' lateral friction, but PyBullet's URDF reader has no element for anisotropy."""
         ground = self.settings.ground_friction * self.world.friction
         for body in self.terrain.ground:
             self.client.changeDynamics(body, -1, lateralFriction=ground)
         for unit in self.formation.units:
-            self.client.changeDynamics(
-                self.body_id,
-                self.link_index[unit.name],
-                lateralFriction=unit.friction.lateral,
-                anisotropicFriction=list(unit.friction.anisotropic),
-            )
+            if not unit.friction.is_isotropic:
+                self.client.changeDynamics(
+                    self.body_id,
+                    self.link_index[unit.name],
+                    anisotropicFriction=list(unit.friction.anisotropic),
+                )
 
     # -- state ---------------------------------------------------------------------------------
 
