@@ -1,8 +1,8 @@
 """Where a body cannot go, and what it senses of that: the obstacle map.
 
 Boxes and walls stand on the ground; a body must go around them (steps and rough ground it
-climbs, so they are ground, not obstacles). Two rules use the map, both through
-:class:`qdsega.task.Task`:
+climbs, so they are ground, not obstacles), and around a roof it is too tall to go under. Two
+rules use the map, both through :class:`qdsega.task.Task`:
 
 * **a move into an obstacle is lost**: the table's moves are measured on open ground, and a
   move that would bring one of the body's units (its outline: the units' centres at rest,
@@ -59,11 +59,13 @@ class ObstacleMap:
     nose_m: float
 
     @classmethod
-    def of(cls, world: World, *, outline_m: np.ndarray, clearance_m: float) -> ObstacleMap | None:
-        """The map of ``world``'s boxes and walls for a body of ``outline_m`` (K, 2) whose
-        units touch what comes within ``clearance_m`` of their centres; None where nothing
-        stands on the ground."""
-        boxes = standing_boxes(world)
+    def of(
+        cls, world: World, *, outline_m: np.ndarray, clearance_m: float, roof: bool = False
+    ) -> ObstacleMap | None:
+        """The map of ``world``'s boxes and walls (and, with ``roof``, its roof: the body is too
+        tall for it) for a body of ``outline_m`` (K, 2) whose units touch what comes within
+        ``clearance_m`` of their centres; None where nothing stands in the way."""
+        boxes = standing_boxes(world, roof=roof)
         if not boxes:
             return None
         outline = np.asarray(outline_m, dtype=np.float64).reshape(-1, 2)

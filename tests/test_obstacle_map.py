@@ -13,7 +13,7 @@ from qdsega.agent.qlearning import learn_on_table
 from qdsega.agent.space import ExplorationSpace
 from qdsega.agent.table_model import TableModel
 from qdsega.description import World
-from qdsega.description.world import Box, Corridor, Stairs
+from qdsega.description.world import Box, Ceiling, Corridor, Stairs
 from qdsega.obstacle_map import CELL_M, SENSED_STATES, ObstacleMap
 from qdsega.task import Task, TaskConfig
 
@@ -38,6 +38,16 @@ def test_a_world_with_nothing_standing_has_no_map():
     assert (
         ObstacleMap.of(World(name="up", stairs=stairs), outline_m=CENTRE, clearance_m=0.2) is None
     )
+
+
+def test_a_roof_is_on_the_map_only_for_a_body_too_tall_for_it():
+    roof = Ceiling(height_m=0.09, from_m=0.4, to_m=2.0, width_m=1.0)
+    tunnel = World(name="tunnel", ceiling=roof)
+    assert ObstacleMap.of(tunnel, outline_m=CENTRE, clearance_m=0.1) is None
+    tall = ObstacleMap.of(tunnel, outline_m=CENTRE, clearance_m=0.1, roof=True)
+    assert tall is not None
+    assert tall.touches(1.0, 0.0, 0.0) and tall.touches(0.35, 0.0, 0.0)
+    assert not tall.touches(0.2, 0.0, 0.0) and not tall.touches(1.0, 0.65, 0.0)
 
 
 def test_footprints_grow_by_the_clearance():

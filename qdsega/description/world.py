@@ -193,11 +193,22 @@ def corridor_walls(corridor: Corridor) -> tuple[Box, Box]:
     return (Box((x, -y, z), size, 0.0), Box((x, y, z), size, 0.0))
 
 
-def standing_boxes(world: World) -> tuple[Box, ...]:
-    """What stands on ``world``'s ground for a body to go around: its boxes and walls (a roof
-    is overhead, steps and rough ground are climbed)."""
+def roof_box(ceiling: Ceiling) -> Box:
+    """A roof as a slab 5 cm thick (its centre's height above z = 0), from ``from_m`` to
+    ``to_m``."""
+    thickness = 0.05
+    x = (ceiling.from_m + ceiling.to_m) / 2
+    size = (ceiling.to_m - ceiling.from_m, ceiling.width_m, thickness)
+    return Box((x, 0.0, ceiling.height_m + thickness / 2), size, 0.0)
+
+
+def standing_boxes(world: World, *, roof: bool = False) -> tuple[Box, ...]:
+    """What stands on ``world``'s ground for a body to go around: its boxes and walls (steps and
+    rough ground are climbed). A roof is overhead; with ``roof`` it is in the way as well, for
+    a body too tall to go under it."""
     walls = () if world.corridor is None else corridor_walls(world.corridor)
-    return world.boxes + walls
+    above = () if world.ceiling is None or not roof else (roof_box(world.ceiling),)
+    return world.boxes + walls + above
 
 
 def load_world(file: Path | str) -> World:

@@ -34,6 +34,7 @@ from qdsega.atomic import replaced_atomically
 from qdsega.description import Formation, World
 from qdsega.errors import WorldError
 from qdsega.locomotion.lower_agent import SETTLE_S, LowerAgent, LowerAgentConfig
+from qdsega.locomotion.surroundings import blocked_spots
 from qdsega.progress import ProgressFactory
 from qdsega.simulation import PhysicsSettings
 from qdsega.simulation.bullet import BulletSimulation
@@ -209,29 +210,6 @@ def _key(source: np.ndarray, target: np.ndarray) -> bytes:
     return np.concatenate([source, target]).astype(np.int64).tobytes()
 
 
-def blocked_spots(
-    formation: Formation,
-    *,
-    physics: PhysicsSettings,
-    world: World,
-    spots: tuple[tuple[float, float], ...],
-) -> list[tuple[float, float]]:
-    """The spots where the body cannot stand at rest (it would be inside an obstacle): no move
-    is made from there, so training leaves them out (every move measured from one would fail,
-    and so, in the table, every move)."""
-    if len(spots) == 1:
-        return []  # the origin: training refuses a start inside before it gets here
-    blocked = []
-    with BulletSimulation(robot=assemble(formation), settings=physics, world=world) as sim:
-        rest = formation.posture_rad(formation.rest_levels())
-        for spot in spots:
-            try:
-                sim.reset(rest, xy_m=spot)
-            except WorldError:
-                blocked.append(spot)
-    return blocked
-
-
 def clear_spots(
     formation: Formation,
     *,
@@ -248,9 +226,14 @@ def clear_spots(
         WorldError: every spot is left out (one line).
     """
     spots = spots_toward((float(task.light[0]), float(task.light[1])), count)
-    blocked = blocked_spots(formation, physics=physics, world=world, spots=spots)
-    if task.obstacles is not None:
-        blocked += [s for s in spots if s not in blocked and task.obstacles.touches(*s, 0.0)]
+    # one spot is the origin: training refuses a start inside an obstacle before it gets here
+    inside = (
+        [] if count == 1 else blocked_spots(formation, physics=physics, world=world, spots=spots)
+    )
+    obstacles = task.obstacles
+    blocked = [
+        s for s in spots if s in inside or (obstacles is not None and obstacles.touches(*s, 0.0))
+    ]
     if len(blocked) == len(spots):
         end = spots[-1]
         raise WorldError(

@@ -17,7 +17,7 @@ from typing import Any
 import imageio.v3 as iio
 import numpy as np
 
-from qdsega.description.world import CELL_M, Box, Rough, World, corridor_walls
+from qdsega.description.world import CELL_M, Box, Rough, World, corridor_walls, roof_box
 
 GROUND_RGBA = (0.55, 0.5, 0.45, 1.0)
 OBSTACLE_RGBA = (0.6, 0.6, 0.62, 1.0)
@@ -81,13 +81,11 @@ def build_terrain(
                 _box(client, pybullet, wall.xyz_m, wall.size_m, wall.yaw_rad, OBSTACLE_RGBA)
             )
     if world.ceiling is not None:
-        roof = world.ceiling
-        length = roof.to_m - roof.from_m
-        x = (roof.from_m + roof.to_m) / 2
-        base = float(ground_height(world, np.array([x]), np.array([0.0]))[0])
-        centre = (x, 0.0, base + roof.height_m + 0.025)
-        size = (length, roof.width_m, 0.05)
-        terrain.obstacles.append(_box(client, pybullet, centre, size, 0.0, OBSTACLE_RGBA))
+        roof = roof_box(world.ceiling)
+        x, y, z = roof.xyz_m
+        base = float(ground_height(world, np.array([x]), np.array([y]))[0])
+        centre = (x, y, base + z)
+        terrain.obstacles.append(_box(client, pybullet, centre, roof.size_m, 0.0, OBSTACLE_RGBA))
     return terrain
 
 

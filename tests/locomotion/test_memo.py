@@ -11,11 +11,12 @@ from qdsega.locomotion.memo import (
     PROGRESS_DELAY_S,
     SPOT_SPACING_M,
     MeasuredTransitions,
-    blocked_spots,
     spots_toward,
 )
+from qdsega.locomotion.surroundings import blocked_spots, too_tall, world_task
 from qdsega.progress import ProgressLine
 from qdsega.simulation.settings import PhysicsSettings
+from qdsega.task import TaskConfig
 from qdsega.training.sims import _blocked
 
 
@@ -166,17 +167,30 @@ def test_the_starts_a_body_cannot_stand_at_are_found_and_said_in_one_line():
     assert blocked_spots(quadruped, physics=PhysicsSettings(), world=tunnel, spots=spots[:1]) == []
 
 
+def test_a_roof_too_low_for_the_body_is_in_its_way_and_one_it_fits_under_is_not(snake5):
+    tunnel = load_world(resolve_world("tunnel"))  # a roof 9 cm high from 0.4 m ahead
+    quadruped = tunnel.lights(load_formation(resolve_formation("quadruped")))
+    physics = PhysicsSettings()
+    assert too_tall(quadruped, tunnel, physics) and not too_tall(snake5, tunnel, physics)
+    task = world_task(quadruped, TaskConfig(), tunnel, physics)
+    assert task.obstacles is not None
+    assert not task.obstacles.touches(0.0, 0.0, 0.0) and task.obstacles.touches(1.0, 0.0, 0.0)
+    assert task.exterior((0.2, 0.0, 0.0)) >= len(task.edges)  # the roof's edge is sensed ahead
+    assert world_task(snake5, TaskConfig(), tunnel, physics).obstacles is None
+
+
 def test_training_measures_moves_only_where_the_body_can_stand(tmp_path):
     from qdsega.training.config import TrainingConfig
     from qdsega.training.sims import build_sim
 
     tunnel = load_world(resolve_world("tunnel"))
     quadruped = tunnel.lights(load_formation(resolve_formation("quadruped")))
-    with pytest.warns(QdsegaWarning, match="cannot stand clear of obstacles at 4 of the 6 places"):
+    # under the roof it cannot stand, and at 0.25 m its front is within half a unit of the roof
+    with pytest.warns(QdsegaWarning, match="cannot stand clear of obstacles at 5 of the 6 places"):
         sim = build_sim(quadruped, TrainingConfig(sim="memo", workers=1), tmp_path, world=tunnel)
     try:
         assert sim.grounded is not None
-        assert sim.grounded.base.spots == spots_toward(tuple(quadruped.light.position_m), 2)
+        assert sim.grounded.base.spots == spots_toward(tuple(quadruped.light.position_m), 1)
     finally:
         sim.close()
 
