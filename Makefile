@@ -21,10 +21,10 @@ $(BIN)/qdsega: pyproject.toml
 	$(BIN)/pip install --quiet -e .
 	touch $@
 
-# The test, Ray and bench extras on top (torch first, so that it comes from TORCH_INDEX).
+# The test, Ray, bench and mjcf extras on top (torch first, so that it comes from TORCH_INDEX).
 $(VENV)/extras: $(BIN)/qdsega
 	$(BIN)/pip install --quiet $(if $(TORCH_INDEX),--index-url $(TORCH_INDEX)) torch==2.13.0
-	$(BIN)/pip install --quiet -e ".[test,ray,bench]"
+	$(BIN)/pip install --quiet -e ".[test,ray,bench,mjcf]"
 	touch $@
 
 # The main job: assemble every shipped formation, learn quadruped in memo mode, check it with

@@ -153,6 +153,11 @@ class Task:
             after = pose
         return after, self.reward(pose, after), False
 
+    def bearing(self, pose: Pose) -> float:
+        """Angle from the pose's heading to the light, counter-clockwise, in [-pi, pi] (rad):
+        what the exterior state bins."""
+        return angle_to_light(pose[0], pose[1], pose[2], self.light[0], self.light[1])
+
     def exterior(self, pose: Pose) -> int:
         """Exterior state of a pose."""
         light = exterior_state(pose[0], pose[1], pose[2], self.light[0], self.light[1], self.edges)

@@ -15,7 +15,7 @@ setting's distances against the reference's and whether a gait's failure (or its
 changed; then which gaits are steady (the reference physics keeps their outcome within
 ``--tolerance`` at every other settle time, i.e. when only the start moves a little) and which
 settings keep every steady gait within ``--tolerance``. The settle time is a module constant,
-``SETTLE_S``, that ``env.py`` imports: this script sets ``qdsega.locomotion.env.SETTLE_S``
+``SETTLE_S``, that ``scene.py`` imports: this script sets ``qdsega.locomotion.scene.SETTLE_S``
 while it builds an env (nothing in the package changes). The lower agent checks for failures
 every ``check_interval_steps`` physics steps; the script scales it with the rate (12 at 240
 Hz, 6 at 120 Hz, 3 at 60 Hz) so that every setting checks 20 times a second, as the default.
@@ -52,7 +52,7 @@ from typing import Any
 
 import numpy as np
 
-import qdsega.locomotion.env as env_module
+import qdsega.locomotion.scene as scene_module
 from qdsega.analysis.evaluation import classic_reference
 from qdsega.assembly import assemble, write_assembly
 from qdsega.baselines import classic_gaits
@@ -107,12 +107,12 @@ def number_list(text: str, kind: type, name: str) -> list[Any]:
 @contextmanager
 def settle_time(seconds: float) -> Iterator[None]:
     """``LocomotionEnv`` settles its start posture for ``seconds`` while inside."""
-    kept = env_module.SETTLE_S
-    env_module.SETTLE_S = seconds
+    kept = scene_module.SETTLE_S
+    scene_module.SETTLE_S = seconds
     try:
         yield
     finally:
-        env_module.SETTLE_S = kept
+        scene_module.SETTLE_S = kept
 
 
 def build_env(formation: Formation, world: World, setting: Setting, steps: int) -> LocomotionEnv:

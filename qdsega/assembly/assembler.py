@@ -1,7 +1,9 @@
 """The assembler: a :class:`Formation` becomes one self-contained URDF text.
 
 Same formation, byte-identical URDF: numbers are printed with a fixed format and elements in
-formation order.
+formation order. Each link carries its lateral friction in PyBullet's ``<contact>`` extension;
+anisotropic friction has no URDF element PyBullet reads, so the file names it in a comment and
+:mod:`qdsega.simulation.bullet` sets it when it loads the body.
 """
 
 from __future__ import annotations
@@ -18,7 +20,7 @@ from trimesh.transformations import euler_from_matrix, euler_matrix, rotation_ma
 
 from qdsega.assembly.mass_properties import MassProperties, link_mass_properties
 from qdsega.assembly.urdf_checks import check_urdf
-from qdsega.description.formation import Formation, PlacedUnit
+from qdsega.description.formation import Formation, Friction, PlacedUnit
 from qdsega.description.unit_type import LINK_PLACEHOLDER, Connector
 from qdsega.errors import FormationError
 
@@ -69,7 +71,13 @@ def assemble(formation: Formation) -> AssembledRobot:
 
 
 def write_assembly(robot: AssembledRobot, out: Path) -> None:
-    """Write the URDF to ``out`` and its assets next to it; all or nothing.
+    """Write the URDF to ``out`` and its assets next to it; all or nothing."""
+    write_model(robot.urdf, robot.assets, out)
+
+
+def write_model(text: str, assets: dict[str, Path], out: Path) -> None:
+    """Write a model file's ``text`` to ``out`` and the ``assets`` it names (relative path ->
+    source file) next to it; all or nothing.
 
     Files are first written into a temporary folder beside ``out`` and then moved into place.
     """
@@ -77,12 +85,12 @@ def write_assembly(robot: AssembledRobot, out: Path) -> None:
     out.parent.mkdir(parents=True, exist_ok=True)
     staging = Path(tempfile.mkdtemp(prefix=f".{out.name}.", dir=out.parent))
     try:
-        for relative, source in sorted(robot.assets.items()):
+        for relative, source in sorted(assets.items()):
             target = staging / relative
             target.parent.mkdir(parents=True, exist_ok=True)
             shutil.copyfile(source, target)
-        (staging / out.name).write_text(robot.urdf, encoding="utf-8")
-        for relative in sorted(robot.assets):
+        (staging / out.name).write_text(text, encoding="utf-8")
+        for relative in sorted(assets):
             final = out.parent / relative
             final.parent.mkdir(parents=True, exist_ok=True)
             os.replace(staging / relative, final)
@@ -106,6 +114,7 @@ def _link(
         except FormationError as exc:
             raise FormationError(exc.message, file=unit_type.template_file) from None
     link.insert(0, _inertial(properties[unit_type.name]))
+    link.insert(1, _contact(unit.friction))
     assets = {}
     for mesh in link.iter("mesh"):
         source = (unit_type.folder / mesh.get("filename", "")).resolve()
@@ -118,20 +127,35 @@ def _link(
 
 def _inertial(props: MassProperties) -> ET.Element:
     inertial = ET.Element("inertial")
-    ET.SubElement(inertial, "origin", xyz=_vector(props.center_of_mass_m), rpy="0 0 0")
-    ET.SubElement(inertial, "mass", value=_number(props.mass_kg))
+    ET.SubElement(inertial, "origin", xyz=vector_text(props.center_of_mass_m), rpy="0 0 0")
+    ET.SubElement(inertial, "mass", value=number_text(props.mass_kg))
     i = props.inertia_kg_m2
     ET.SubElement(
         inertial,
         "inertia",
-        ixx=_number(i[0, 0]),
-        ixy=_number(i[0, 1]),
-        ixz=_number(i[0, 2]),
-        iyy=_number(i[1, 1]),
-        iyz=_number(i[1, 2]),
-        izz=_number(i[2, 2]),
+        ixx=number_text(i[0, 0]),
+        ixy=number_text(i[0, 1]),
+        ixz=number_text(i[0, 2]),
+        iyy=number_text(i[1, 1]),
+        iyz=number_text(i[1, 2]),
+        izz=number_text(i[2, 2]),
     )
     return inertial
+
+
+def _contact(friction: Friction) -> ET.Element:
+    """PyBullet's URDF ``<contact>``: the lateral friction, and a comment naming an anisotropic
+    friction that PyBullet's URDF reader has no element for."""
+    contact = ET.Element("contact")
+    ET.SubElement(contact, "lateral_friction", value=number_text(friction.lateral))
+    if not friction.is_isotropic:
+        contact.append(
+            ET.Comment(
+                f" anisotropic friction x y z: {vector_text(friction.anisotropic)} (no URDF "
+                "element PyBullet reads carries it; qdsega sets it with changeDynamics) "
+            )
+        )
+    return contact
 
 
 def _joint(unit: PlacedUnit, connector: Connector) -> ET.Element:
@@ -147,26 +171,28 @@ def _joint(unit: PlacedUnit, connector: Connector) -> ET.Element:
         assert unit.axis is not None
         turned = euler_matrix(*rpy, axes="sxyz") @ rotation_matrix(unit.locked_rad, unit.axis)
         rpy = euler_from_matrix(turned, axes="sxyz")
-    ET.SubElement(joint, "origin", xyz=_vector(connector.xyz_m), rpy=_vector(rpy))
+    ET.SubElement(joint, "origin", xyz=vector_text(connector.xyz_m), rpy=vector_text(rpy))
     if unit.is_actuated:
         spec = unit.unit_type.joint
         assert spec is not None and unit.axis is not None
-        ET.SubElement(joint, "axis", xyz=_vector(unit.axis))
+        ET.SubElement(joint, "axis", xyz=vector_text(unit.axis))
         ET.SubElement(
             joint,
             "limit",
-            lower=_number(spec.lower_rad),
-            upper=_number(spec.upper_rad),
-            effort=_number(spec.effort_nm),
-            velocity=_number(spec.velocity_rad_s),
+            lower=number_text(spec.lower_rad),
+            upper=number_text(spec.upper_rad),
+            effort=number_text(spec.effort_nm),
+            velocity=number_text(spec.velocity_rad_s),
         )
     return joint
 
 
-def _number(x: float) -> str:
+def number_text(x: float) -> str:
+    """``x`` as a model file prints it: 9 significant digits, never ``-0``."""
     text = f"{float(x):.9g}"
     return "0" if text == "-0" else text
 
 
-def _vector(values: tuple[float, ...] | np.ndarray) -> str:
-    return " ".join(_number(v) for v in values)
+def vector_text(values: tuple[float, ...] | np.ndarray) -> str:
+    """Numbers as a model file prints them, separated by spaces."""
+    return " ".join(number_text(v) for v in values)

@@ -55,7 +55,7 @@ def shape_mesh(element: ET.Element, folder: Path) -> trimesh.Trimesh:
     """The mesh of a URDF ``<collision>`` or ``<visual>`` in its link's frame: its
     ``<geometry>`` (box, cylinder, sphere, or a closed mesh relative to ``folder``) placed by
     its ``<origin>``."""
-    transform = _origin_transform(element.find("origin"))
+    transform = origin_transform(element.find("origin"))
     geometry = element.find("geometry")
     shape = None if geometry is None or len(geometry) == 0 else geometry[0]
     if shape is None:
@@ -78,7 +78,9 @@ def shape_mesh(element: ET.Element, folder: Path) -> trimesh.Trimesh:
     raise FormationError(f"unsupported {element.tag} geometry <{shape.tag}>")
 
 
-def _origin_transform(origin: ET.Element | None) -> np.ndarray:
+def origin_transform(origin: ET.Element | None) -> np.ndarray:
+    """The 4x4 transform of a URDF ``<origin>`` (``xyz``, fixed-axis ``rpy``); identity if
+    there is none."""
     if origin is None:
         return np.eye(4)
     xyz = _floats(origin.get("xyz", "0 0 0"), 3, "origin xyz", POSITION_M)

@@ -25,6 +25,10 @@ def joint_name_of(unit: str) -> str:
     return f"{unit}_joint"
 
 
+ISOTROPIC = (1.0, 1.0, 1.0)
+"""Anisotropic friction scales of a link that slides alike every way (the default)."""
+
+
 @dataclass(frozen=True)
 class Friction:
     """Contact friction of a unit's link.
@@ -37,6 +41,11 @@ class Friction:
 
     lateral: float
     anisotropic: tuple[float, float, float]
+
+    @property
+    def is_isotropic(self) -> bool:
+        """The link slides alike every way: its anisotropic scales are all 1."""
+        return self.anisotropic == ISOTROPIC
 
 
 @dataclass(frozen=True)

@@ -13,7 +13,15 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from qdsega.description.formation import Formation, Friction, Leg, Light, PlacedUnit, Side
+from qdsega.description.formation import (
+    ISOTROPIC,
+    Formation,
+    Friction,
+    Leg,
+    Light,
+    PlacedUnit,
+    Side,
+)
 from qdsega.description.limits import (
     ANGLE_DEG,
     AXIS_COMPONENT,
@@ -115,7 +123,7 @@ def _error(reader: Reader, raw: _RawUnit, key: str, message: str) -> QdsegaError
 def _read_friction(reader: Reader, path: KeyPath, value: Any, default: Friction | None) -> Friction:
     raw = reader.mapping(path, value, optional=("lateral", "anisotropic"))
     lateral = 1.0 if default is None else default.lateral
-    anisotropic = (1.0, 1.0, 1.0) if default is None else default.anisotropic
+    anisotropic = ISOTROPIC if default is None else default.anisotropic
     if "lateral" in raw:
         lateral = reader.number((*path, "lateral"), raw["lateral"], FRICTION)
     if "anisotropic" in raw:

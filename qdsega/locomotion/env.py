@@ -9,10 +9,8 @@ the penalty when the lower agent fails, which ends the episode; episodes are tru
 ``trial_steps`` steps. The physics is deterministic; every episode starts from one settled
 snapshot of the start posture.
 
-Poses are in the trial's frame, as the task has them: the body's pose at the episode's start
-(:mod:`qdsega.locomotion.body_pose`) is the origin, heading +x, and the light stands at the
-formation's distance and bearing from it. Moves measured here therefore integrate to the same
-poses in a transition table.
+Poses are in the trial's frame, as the task has them (:mod:`qdsega.locomotion.scene`). Moves
+measured here therefore integrate to the same poses in a transition table.
 
 With ``render_mode="rgb_array"``, :meth:`LocomotionEnv.render` returns the picture of a camera
 that follows the body, looking toward the light (a yellow sphere on the horizon), rendered
@@ -28,8 +26,6 @@ Registered with Gymnasium as ``qdsega/Locomotion-v0`` when :mod:`qdsega` is impo
 
 from __future__ import annotations
 
-import math
-import warnings
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
@@ -38,22 +34,14 @@ from typing import Any
 import gymnasium as gym
 import numpy as np
 
-from qdsega.assembly import assemble
-from qdsega.description import (
-    Formation,
-    World,
-    load_formation,
-    named_world,
-    resolve_formation,
-)
-from qdsega.errors import QdsegaWarning, WorldError
-from qdsega.locomotion.lower_agent import SETTLE_S, LowerAgent, LowerAgentConfig
+from qdsega.description import Formation, World
+from qdsega.locomotion.lower_agent import LowerAgentConfig
 from qdsega.locomotion.rules import ExactRules
+from qdsega.locomotion.scene import Scene, lit
 from qdsega.locomotion.surroundings import world_task
 from qdsega.simulation import PhysicsSettings
-from qdsega.simulation.bullet import BulletSimulation
-from qdsega.simulation.camera import LIGHT_RADIUS_FRACTION, CameraConfig, body_extent_m
-from qdsega.task import Pose, TaskConfig, move_pose, relative_move
+from qdsega.simulation.camera import CameraConfig
+from qdsega.task import Pose, TaskConfig
 
 
 class LocomotionEnv(gym.Env[np.ndarray, np.ndarray]):
@@ -89,13 +77,7 @@ class LocomotionEnv(gym.Env[np.ndarray, np.ndarray]):
         camera: CameraConfig | None = None,
         world: World | Path | str | None = None,
     ) -> None:
-        if not isinstance(formation, Formation):
-            formation = load_formation(resolve_formation(formation))
-        if world is not None and not isinstance(world, World):
-            world = named_world(world)
-        if world is not None:
-            formation = world.lights(formation)
-        self.world = world or World()
+        formation, self.world = lit(formation, world)
         if render_mode not in (None, *self.metadata["render_modes"]):
             raise ValueError(f"render_mode must be None or 'rgb_array', got {render_mode!r}")
         self.formation = formation
@@ -109,29 +91,17 @@ class LocomotionEnv(gym.Env[np.ndarray, np.ndarray]):
         counts = [len(j.levels_rad) for j in formation.joints]
         self.action_space = gym.spaces.MultiDiscrete(counts)
         self.observation_space = gym.spaces.MultiDiscrete([*counts, self.task.n_exterior])
-        rendering = render_mode is not None
-        self.sim = BulletSimulation(
-            robot=assemble(formation), settings=physics, egl=rendering, world=self.world
+        self.scene = Scene(
+            formation=formation,
+            world=self.world,
+            lower_agent=lower_agent or LowerAgentConfig(),
+            physics=physics,
+            start_rad=np.array(formation.posture_rad(self.start_levels)),
+            pictures=render_mode is not None,
         )
-        if rendering and not self.sim.egl_enabled:
-            warnings.warn("EGL unavailable, rendered with TinyRenderer", QdsegaWarning, 2)
-        self.lower_agent = LowerAgent(sim=self.sim, config=lower_agent or LowerAgentConfig())
+        self.sim = self.scene.sim
+        self.lower_agent = self.scene.lower_agent
         self.metadata = {**self.metadata, "render_fps": 1.0 / self.lower_agent.step_duration_s}
-        try:
-            self.sim.reset(formation.posture_rad(self.start_levels))
-        except WorldError:  # it starts inside an obstacle: nothing to keep open
-            self.sim.close()
-            raise
-        self.sim.step(max(1, round(SETTLE_S / self.sim.settings.time_step_s)))
-        self._origin = self.lower_agent.pose().planar
-        light = formation.light
-        self._light_xy = move_pose(*self._origin, *light.position_m, 0.0)[:2]
-        """Where the light stands in the world (m)."""
-        if rendering:
-            radius = max(0.1, LIGHT_RADIUS_FRACTION * light.distance_m)
-            self.sim.add_light(self._light_xy, radius_m=radius)
-            self._body_extent_m = body_extent_m(self.sim.unit_states()[0])  # at rest: framing
-        self._start_state = self.sim.save_state()
         self._posture = self.start_levels.copy()
         self._pose: Pose = (0.0, 0.0, 0.0)
         self._steps = 0
@@ -143,8 +113,7 @@ class LocomotionEnv(gym.Env[np.ndarray, np.ndarray]):
         self, *, seed: int | None = None, options: dict[str, Any] | None = None
     ) -> tuple[np.ndarray, dict[str, Any]]:
         super().reset(seed=seed)
-        self.sim.restore_state(self._start_state)
-        self.sim.command(self.formation.posture_rad(self.start_levels))
+        self.scene.restart()
         self._posture = self.start_levels.copy()
         self._pose = (0.0, 0.0, 0.0)
         self._steps = 0
@@ -164,7 +133,7 @@ class LocomotionEnv(gym.Env[np.ndarray, np.ndarray]):
         if failed:
             reward = self.task.penalty
         else:
-            self._pose = relative_move(self._origin, outcome.pose.planar)
+            self._pose = self.scene.trial_pose(outcome.pose)
             reward = self.task.reward(before, self._pose)
         truncated = not failed and self._steps >= self.task.trial_steps
         return self._observation(), float(reward), failed, truncated, self._info(outcome.failure)
@@ -189,21 +158,10 @@ class LocomotionEnv(gym.Env[np.ndarray, np.ndarray]):
         ``"rgb_array"``; None without a render mode."""
         if self.render_mode is None:
             return None
-        pose = self.lower_agent.pose()
-        light_x, light_y = self._light_xy
-        camera = self.camera
-        return self.sim.camera_image(
-            width=camera.width,
-            height=camera.height,
-            target_m=(pose.x_m, pose.y_m, 0.05),
-            view_yaw_rad=math.atan2(light_y - pose.y_m, light_x - pose.x_m),
-            distance_m=camera.distance_for(self._body_extent_m),
-            pitch_rad=camera.pitch_rad,
-            fov_deg=camera.fov_deg,
-        )
+        return self.scene.picture(self.camera)
 
     def close(self) -> None:
-        self.sim.close()
+        self.scene.close()
 
     def _observation(self) -> np.ndarray:
         exterior = self.task.exterior(self._pose)

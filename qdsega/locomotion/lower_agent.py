@@ -174,7 +174,7 @@ class LowerAgent:
                     self.sim.step()
                     on_physics_step()
             done += chunk
-            pose, failure = self._check(contacts)
+            pose, failure = self.check(contacts)
             if failure is not None:
                 return Outcome(pose, failure, self._stacked(contacts))
         errors = np.abs(self.sim.joint_positions() - targets)
@@ -188,9 +188,11 @@ class LowerAgent:
     def _stacked(self, contacts: list[np.ndarray]) -> np.ndarray:
         return np.array(contacts, dtype=bool).reshape(-1, len(self.formation.unit_index))
 
-    def _check(self, contacts: list[np.ndarray]) -> tuple[BodyPose, str | None]:
-        """The step's failure so far, if any; appends the units touching the ground now to
-        ``contacts`` (once the body is known to be upright and finite)."""
+    def check(self, contacts: list[np.ndarray]) -> tuple[BodyPose, str | None]:
+        """The body's pose now, and why it has failed, if it has (non-finite, flipped, a
+        legged trunk on the ground; the joints' arrival is :meth:`execute`'s to judge);
+        appends the units touching the ground now to ``contacts`` (once the body is known to
+        be upright and finite)."""
         # The trunk's state only: a non-finite value anywhere in an articulated body reaches
         # every link within one step.
         pose = self.pose()

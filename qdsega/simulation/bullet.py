@@ -1,14 +1,18 @@
 """PyBullet simulation of an assembled formation.
 
 This is the only module that imports pybullet. Each :class:`BulletSimulation` owns its own
-``BulletClient`` in DIRECT mode (never the global client), so simulations can coexist.
+``BulletClient`` (never the global client), in DIRECT mode so that simulations can coexist, or
+in GUI mode for a window to watch it in (PyBullet opens one per process).
 """
 
 from __future__ import annotations
 
 import importlib.util
 import math
+import os
+import sys
 import tempfile
+import warnings
 import weakref
 from collections.abc import Sequence
 from pathlib import Path
@@ -17,7 +21,7 @@ import numpy as np
 
 from qdsega.assembly import AssembledRobot, write_assembly
 from qdsega.description.world import World
-from qdsega.errors import WorldError
+from qdsega.errors import QdsegaWarning, WorldError
 from qdsega.simulation.quiet import native_output_silenced
 from qdsega.simulation.settings import PhysicsSettings
 from qdsega.simulation.terrain import build_terrain, ground_height
@@ -49,6 +53,10 @@ class BulletSimulation:
             world is then built for pictures (rough ground shows its relief).
         world: the ground and what stands on it (:mod:`qdsega.simulation.terrain`); None for
             the flat plane.
+        window: open PyBullet's window (a GUI client) to watch the simulation in, the world
+            built for pictures; where there is no display (Linux without ``DISPLAY``) it
+            says so in a :class:`~qdsega.errors.QdsegaWarning` and runs without one (see
+            :attr:`window`).
     """
 
     def __init__(
@@ -58,18 +66,31 @@ class BulletSimulation:
         settings: PhysicsSettings | None = None,
         egl: bool = False,
         world: World | None = None,
+        window: bool = False,
     ) -> None:
         self.robot = robot
         self.formation = robot.formation
         self.settings = settings or PhysicsSettings()
+        # PyBullet's GUI client ends the whole process where it cannot reach X.
+        self.window = window and (sys.platform != "linux" or bool(os.environ.get("DISPLAY")))
+        """Whether PyBullet's window is open."""
+        if window and not self.window:
+            warnings.warn(
+                "no PyBullet window without a display (DISPLAY is not set): running without one",
+                QdsegaWarning,
+                stacklevel=2,
+            )
+        mode = pybullet.GUI if self.window else pybullet.DIRECT
         with native_output_silenced(1):  # the engine prints its banner to the C-level stdout
-            self.client = BulletClient(connection_mode=pybullet.DIRECT)
+            self.client = BulletClient(connection_mode=mode)
         self.egl_enabled = egl and self._load_egl()
         if self.egl_enabled:
             _EGL_OPEN.add(self)
         self._configure_engine()
         self.world = world or World()
-        self.terrain = build_terrain(self.client, pybullet, self.world, PLANE_URDF, pictures=egl)
+        self.terrain = build_terrain(
+            self.client, pybullet, self.world, PLANE_URDF, pictures=egl or window
+        )
         flags = pybullet.URDF_USE_INERTIA_FROM_FILE
         if self.settings.self_collision:
             flags |= pybullet.URDF_USE_SELF_COLLISION | (
@@ -123,16 +144,18 @@ class BulletSimulation:
         }
 
     def _apply_friction(self) -> None:
+        """The ground's friction, and each unit's anisotropic friction: the URDF carries the
+        units' lateral friction, but PyBullet's URDF reader has no element for anisotropy."""
         ground = self.settings.ground_friction * self.world.friction
         for body in self.terrain.ground:
             self.client.changeDynamics(body, -1, lateralFriction=ground)
         for unit in self.formation.units:
-            self.client.changeDynamics(
-                self.body_id,
-                self.link_index[unit.name],
-                lateralFriction=unit.friction.lateral,
-                anisotropicFriction=list(unit.friction.anisotropic),
-            )
+            if not unit.friction.is_isotropic:
+                self.client.changeDynamics(
+                    self.body_id,
+                    self.link_index[unit.name],
+                    anisotropicFriction=list(unit.friction.anisotropic),
+                )
 
     # -- state ---------------------------------------------------------------------------------
 
@@ -221,15 +244,27 @@ class BulletSimulation:
 
     def joint_positions(self) -> np.ndarray:
         """Actuated joint angles (rad), shape (J,)."""
+        return self.joint_states()[0]
+
+    def joint_states(self) -> tuple[np.ndarray, np.ndarray]:
+        """Actuated joint angles (rad) and angular velocities (rad/s), shape (J,) each."""
         if len(self.joint_ids) == 0:
-            return np.zeros(0)
+            return np.zeros(0), np.zeros(0)
         states = self.client.getJointStates(self.body_id, self.joint_ids.tolist())
-        return np.array([s[0] for s in states], dtype=float)
+        return np.array([s[0] for s in states], dtype=float), np.array(
+            [s[1] for s in states], dtype=float
+        )
 
     def base_pose(self) -> tuple[np.ndarray, np.ndarray]:
         """Root unit's centre of mass (m), shape (3,), and orientation quaternion (x, y, z, w)."""
         position, orientation = self.client.getBasePositionAndOrientation(self.body_id)
         return np.array(position), np.array(orientation)
+
+    def base_velocity(self) -> tuple[np.ndarray, np.ndarray]:
+        """Root unit's linear velocity (m/s) and angular velocity (rad/s) in the world frame,
+        shape (3,) each."""
+        linear, angular = self.client.getBaseVelocity(self.body_id)
+        return np.array(linear), np.array(angular)
 
     def unit_states(self, rows: Sequence[int] | None = None) -> tuple[np.ndarray, np.ndarray]:
         """Centre of mass (m), shape (U, 3), and orientation quaternion (x, y, z, w), shape
@@ -346,6 +381,19 @@ class BulletSimulation:
                 width, height, view, projection, renderer=renderer
             )
         return np.asarray(rgba, dtype=np.uint8).reshape(height, width, 4)[:, :, :3].copy()
+
+    def aim_window(
+        self, *, target_m: Sequence[float], view_yaw_rad: float, distance_m: float, pitch_rad: float
+    ) -> None:
+        """Point the window's camera as :meth:`camera_image` points its own (nothing without
+        a window)."""
+        # PyBullet's yaw 0 looks along +y, and its pitch is negative looking down.
+        self.client.resetDebugVisualizerCamera(
+            cameraDistance=distance_m,
+            cameraYaw=math.degrees(view_yaw_rad) - 90.0,
+            cameraPitch=-math.degrees(pitch_rad),
+            cameraTargetPosition=list(target_m),
+        )
 
     def close(self) -> None:
         """Disconnect from the physics server.

@@ -59,6 +59,7 @@ TINY_RUNS = {
         "--copy-seconds", "0.5",
     ),
     "experiments/snake_slope/run.py": ("--quick", "--steps", "2"),
+    "experiments/file_physics/run.py": ("--bodies", "quadruped", "--seconds", "0.5"),
 }  # fmt: skip
 ON_A_REPERTOIRE = "experiments/adaptation/adaptation_table.py"
 ON_A_RUN = (  # run below on the tiny runs reconfiguration_table.py makes
