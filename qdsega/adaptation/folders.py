@@ -70,3 +70,18 @@ class AdaptationFolder:
     def report(self) -> Path:
         """The page ``qdsega report`` writes, named as a run's."""
         return self.path / RunFolder.REPORT
+
+    @property
+    def external(self) -> Path:
+        """What a robot needs to play an external adaptation's gaits (``--external``): the
+        joints, the rest posture, the timing, the repertoire it is adapted from."""
+        return self.path / "external.json"
+
+    def trial_gait(self, trial: int) -> Path:
+        """The gait to try in external trial ``trial`` (from 1): joint angles over time, CSV."""
+        return self.path / "trials" / f"{trial:03d}.csv"
+
+    def trial_result(self, trial: int) -> Path:
+        """What the robot did in external trial ``trial``: the distance it walked (m), written
+        by the robot's side."""
+        return self.path / "trials" / f"{trial:03d}.result"

@@ -102,7 +102,8 @@ def adaptation_curve(result: dict[str, Any], file: Path, *, fresh_m: float | Non
     numbers = np.arange(1, len(trials) + 1)
     distances = np.array([t["distance_m"] for t in trials])
     fig, ax = plt.subplots(figsize=(6, 4))
-    ax.plot(numbers, distances, "o", label="trial (exact physics)")
+    where = "on the robot" if result.get("mode") == "external" else "exact physics"
+    ax.plot(numbers, distances, "o", label=f"trial ({where})")
     ax.step(numbers, np.maximum.accumulate(distances), where="post", label="best so far")
     ax.plot(numbers, [t["predicted_m"] for t in trials], "x", label="predicted before the trial")
     if fresh_m is not None:

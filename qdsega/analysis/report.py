@@ -15,7 +15,7 @@ import json
 from pathlib import Path
 from typing import Any
 
-from qdsega.adaptation.adapt import is_adaptation
+from qdsega.adaptation.adapt import MODES, is_adaptation
 from qdsega.adaptation.folders import AdaptationFolder
 from qdsega.analysis.plots import FIGURES, body_in_world
 from qdsega.atomic import replaced_atomically
@@ -101,10 +101,11 @@ def _adaptation(folder: Path) -> tuple[str, list[str]]:
         title = f"qdsega adapt: {result['formation']} from {result['intact']}'s repertoire"
         summary = {
             "changed body": result["formation_file"] or result["formation"],
+            "trials played on": result.get("played_on", MODES["mapped"]),  # older: mapped
             "repertoire": result["repertoire"],
             "world": result["world"],
             "joints": describe(result["joints"]),
-            "gait found, exact physics (m)": result["distance_m"],
+            "gait found (m)": result["distance_m"],
             "found at trial": result["trial_found"],
             "trials": len(result["trials"]),
             "stopped": result["stopped"],
@@ -126,7 +127,7 @@ def _adaptation(folder: Path) -> tuple[str, list[str]]:
     )
     video = f"{folder}/{files.video.name}"
     head = "<tr><th>trial</th><th>cell</th><th>on the intact body (m)</th>"
-    head += "<th>predicted (m)</th><th>exact (m)</th><th>failed</th></tr>"
+    head += "<th>predicted (m)</th><th>trial (m)</th><th>failed</th></tr>"
     return title, [
         f"<h1>{html.escape(title)}</h1>",
         "<h2>Summary</h2>",

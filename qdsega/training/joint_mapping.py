@@ -15,6 +15,7 @@ and adaptation from a repertoire all map with it.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -61,10 +62,8 @@ class JointMapping:
             if source is None:
                 continue
             column[k] = source
-            angles = np.asarray(joint.levels_rad)
-            for level, angle in enumerate(old.joints[source].levels_rad):
-                gaps = np.abs(angles - angle)
-                levels[k, level] = int(np.flatnonzero(gaps <= gaps.min() + 1e-9)[0])
+            old_levels = old.joints[source].levels_rad
+            levels[k, : len(old_levels)] = nearest_levels(joint.levels_rad, old_levels)
         new_names = {j.name for j in new.joints}
         return cls(
             column=column,
@@ -144,6 +143,16 @@ class JointMapping:
                 elite_path=data["elite_path"] if "elite_path" in data.files else None,
             )
         return mapping, state
+
+
+def nearest_levels(
+    levels_rad: Sequence[float], angles_rad: Sequence[float] | np.ndarray
+) -> np.ndarray:
+    """The index of the level nearest each angle (the first of equally near ones), shape
+    like ``angles_rad``: the level a joint of ``levels_rad`` takes for a commanded angle."""
+    angles = np.asarray(angles_rad, dtype=np.float64)
+    gaps = np.abs(angles[..., None] - np.asarray(levels_rad, dtype=np.float64))
+    return np.argmax(gaps <= gaps.min(axis=-1, keepdims=True) + 1e-9, axis=-1).astype(np.int64)
 
 
 def elite_path(state: LearnerState) -> np.ndarray:

@@ -1,6 +1,8 @@
 """Adaptation: a repertoire's gaits mapped onto a changed body and tried in exact physics; the
-same repertoire and body give the same trials; a body with no joint in common, or a corrupt
-repertoire, is one line, exit 2, and nothing written."""
+same repertoire and body give the same trials; played unmapped on the body hidden from the
+search (``--blind``), or by a robot (``--external``) that is that body, they give the same
+trials again; a body with no joint in common, or a corrupt repertoire, is one line, exit 2,
+and nothing written."""
 
 import argparse
 import json
@@ -9,13 +11,16 @@ import numpy as np
 import pytest
 from helpers import run_cli
 
-from qdsega.adaptation.adapt import adapt
+from qdsega.adaptation.adapt import adapt, adapt_blind
+from qdsega.adaptation.hidden_body import HiddenBody
 from qdsega.adaptation.repertoire import RepertoireSettings, build_repertoire
+from qdsega.adaptation.trajectory import JointTrajectory
 from qdsega.analysis import render
 from qdsega.analysis.render import read_postures
 from qdsega.commands import adapt as adapt_command
 from qdsega.description import load_formation, resolve_formation
 from qdsega.training.config import resolve_config
+from qdsega.training.formation_copy import load_run_world
 
 pytestmark = pytest.mark.slow  # exact physics: seconds
 
@@ -44,6 +49,42 @@ def test_a_leg_lost_is_adapted_to_with_the_mapped_gaits_and_the_same_trials_twic
     second = adapt(repertoire, tripod, tmp_path / "b", trials=3)
     strip = [{k: v for k, v in t.items() if k != "wall_s"} for t in first["trials"]]
     assert strip == [{k: v for k, v in t.items() if k != "wall_s"} for t in second["trials"]]
+
+
+def test_the_gaits_played_blind_on_the_hidden_body_or_by_it_as_a_robot_are_the_mapped_ones(
+    repertoire, tmp_path
+):
+    # A lost leg's commands reach nothing, as the mapping drops them: the same trials.
+    tripod = load_formation(resolve_formation("quadruped_tripod"))
+    mapped = adapt(repertoire, tripod, tmp_path / "mapped", trials=3)
+    blind = adapt_blind(repertoire, tripod, tmp_path / "blind", trials=3)
+    assert blind["mode"] == "blind" and blind["formation"] == "quadruped_tripod"
+    played = [{k: v for k, v in t.items() if k != "wall_s"} for t in mapped["trials"]]
+    assert played == [{k: v for k, v in t.items() if k != "wall_s"} for t in blind["trials"]]
+    assert blind["gait"] == mapped["gait"] and blind["joints"] == mapped["joints"]
+    gait = read_postures(tmp_path / "blind" / "gait.csv", len(tripod.joints))  # the tripod's
+    assert np.array_equal(gait, read_postures(tmp_path / "mapped" / "gait.csv", 6))
+    # The robot's side, played by the tripod: each gait file read, played, its distance written.
+    out = tmp_path / "robot"
+    command = ("adapt", repertoire, "--external", "--trials", "3", "--out", out)
+    assert run_cli(*command).returncode == 0
+    facts = json.loads((out / "external.json").read_text())
+    world = load_run_world(repertoire)
+    with HiddenBody(body=tripod, world=world, step_s=facts["step_s"],
+                    commands=facts["commands"]) as robot:  # fmt: skip
+        trial = 1
+        while not (out / "adapt.json").is_file():
+            played_on = robot.play(JointTrajectory.read(out / "trials" / f"{trial:03d}.csv"))
+            answer = f"{played_on.distance_m!r} {played_on.failure or ''}"
+            (out / "trials" / f"{trial:03d}.result").write_text(answer)
+            result = run_cli(*command)
+            assert result.returncode == 0, result.stderr
+            trial += 1
+    external = json.loads((out / "adapt.json").read_text())
+    assert [(t["cell"], t["distance_m"], t["failure"]) for t in external["trials"]] == [
+        (t["cell"], t["distance_m"], t["failure"]) for t in blind["trials"]
+    ]
+    assert external["formation"] == "quadruped" and len(external["gait"][0]) == 8  # its joints
 
 
 def test_the_command_writes_the_result_the_curve_and_a_page(repertoire, tmp_path):
@@ -110,6 +151,9 @@ def test_a_body_with_no_joint_in_common_or_a_corrupt_repertoire_is_refused(reper
     result = run_cli("adapt", repertoire, "--formation", "snake5", "--out", out)
     assert result.returncode == 2 and len(result.stderr.splitlines()) == 1, result.stderr
     assert "no actuated joint in common" in result.stderr and not out.exists()
+    result = run_cli("adapt", repertoire, "--blind", "snake5", "--out", out)
+    assert result.returncode == 2 and "no actuated joint in common" in result.stderr
+    assert not out.exists()
     broken = tmp_path / "broken"
     broken.mkdir()
     (broken / "repertoire.npz").write_bytes(b"junk")
