@@ -271,8 +271,6 @@ def adapt(
         FormationError: ``changed`` has no actuated joint in common with the repertoire's
             body.
     """
-    if trials < 1:
-        raise ValueError(f"trials must be at least 1, got {trials}")
     mapped = MappedRepertoire.of(repertoire, changed)
     search = Adaptation(repertoire=mapped, trials=trials, length_scale=length_scale)
     rules = mapped.rules()
@@ -284,15 +282,14 @@ def adapt(
             policy = SequencePolicy(commands=ask.cycle)
             (trial,) = exact.rollouts([policy], steps=rules.task.trial_steps)
             search.tell(trial.distance_m, failure=trial.failure, wall_s=time.perf_counter() - start)
-    gait = search.best().cycle
     return write_adaptation(
         out,
         search,
         mode="mapped",
         body=mapped.changed,
         joints=mapped.mapping,
-        gait=gait,
-        commands=np.resize(gait, (rules.task.trial_steps, gait.shape[1])),
+        gait=search.best().cycle,
+        trial_steps=rules.task.trial_steps,
         wall_s=time.perf_counter() - start,
     )
 
@@ -311,8 +308,6 @@ def adapt_blind(
     played on ``hidden`` (:class:`~qdsega.adaptation.hidden_body.HiddenBody`); write ``out``,
     with the gait found as ``hidden``'s postures. Arguments and errors as :func:`adapt`'s.
     """
-    if trials < 1:
-        raise ValueError(f"trials must be at least 1, got {trials}")
     joints = MappedRepertoire.of(repertoire, hidden).mapping  # refuses a body without one
     intact = MappedRepertoire.unmapped(repertoire)
     search = Adaptation(repertoire=intact, trials=trials, length_scale=length_scale)
@@ -328,15 +323,15 @@ def adapt_blind(
         for ask in _asked(search, progress):
             trial = robot.play(JointTrajectory.trial(intact.changed, ask.cycle, rules))
             search.tell(trial.distance_m, failure=trial.failure, wall_s=time.perf_counter() - start)
-    found = JointTrajectory.trial(intact.changed, search.best().cycle, rules).levels_on(robot.body)
+    found = JointTrajectory.of(intact.changed, search.best().cycle, step_s)
     return write_adaptation(
         out,
         search,
         mode="blind",
         body=robot.body,
         joints=joints,
-        gait=found[: len(search.best().cycle)],
-        commands=found,
+        gait=found.levels_on(robot.body),
+        trial_steps=rules.task.trial_steps,
         wall_s=time.perf_counter() - start,
     )
 
@@ -363,13 +358,14 @@ def write_adaptation(
     body: Formation,
     joints: JointMapping,
     gait: np.ndarray,
-    commands: np.ndarray,
+    trial_steps: int,
     wall_s: float,
 ) -> dict[str, Any]:
-    """Write a finished search's ``adapt.json`` and ``gait.csv`` into ``out``; returns the
-    result. ``mode`` is how its trials were played (:data:`MODES`), ``body`` the body the gait
-    found is for, ``joints`` the intact body's joints onto it, ``gait`` the cycle found
-    (k, J) and ``commands`` its trial (n, J), both ``body``'s level indices."""
+    """Write a finished search's ``adapt.json`` and ``gait.csv`` (``gait`` repeated for
+    ``trial_steps`` commands) into ``out``; returns the result. ``mode`` is how its trials
+    were played (:data:`MODES`), ``body`` the body the gait found is for, ``joints`` the
+    intact body's joints onto it, ``gait`` the cycle found (k, J) of ``body``'s level
+    indices."""
     repertoire = search.repertoire
     result = {
         "mode": mode,
@@ -387,6 +383,7 @@ def write_adaptation(
     out.mkdir(parents=True, exist_ok=True)
     folder = AdaptationFolder(out)
     with replaced_atomically(folder.gait) as partial:
+        commands = np.resize(gait, (trial_steps, np.shape(gait)[1]))
         np.savetxt(partial, commands, fmt="%d", delimiter=",")
     with replaced_atomically(folder.result) as partial:
         partial.write_text(json.dumps(result, indent=2) + "\n", encoding="utf-8")

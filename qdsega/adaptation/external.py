@@ -104,15 +104,14 @@ def external_step(
             return ExternalStep(trial, gait, answer, None)
         distance, note = read_answer(answer)
         search.tell(distance, failure=note, wall_s=answer.stat().st_mtime - began)
-    found = search.best().cycle
     result = write_adaptation(
         out,
         search,
         mode="external",
         body=intact.changed,
         joints=intact.mapping,
-        gait=found,
-        commands=np.resize(found, (rules.task.trial_steps, found.shape[1])),
+        gait=search.best().cycle,
+        trial_steps=rules.task.trial_steps,
         wall_s=search.played[-1]["wall_s"],
     )
     return ExternalStep(None, None, None, result)

@@ -114,8 +114,9 @@ def test_the_command_films_the_gait_found_in_the_repertoires_world(
 
     monkeypatch.setattr(render, "render_postures", film)
     out = tmp_path / "adapt"
-    args = argparse.Namespace(repertoire=repertoire, formation="quadruped_tripod", trials=1,
-                              fresh=None, no_video=False, out=out)  # fmt: skip
+    args = argparse.Namespace(repertoire=repertoire, formation="quadruped_tripod", blind=None,
+                              external=False, trials=1, fresh=None, no_video=False,
+                              out=out)  # fmt: skip
     assert adapt_command.run(args) == 0
     gait = read_postures(out / "gait.csv", 6)
     assert filmed["formation"] == "quadruped_tripod" and filmed["world"] == "flat"
