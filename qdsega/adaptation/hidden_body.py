@@ -41,10 +41,13 @@ class HiddenBody:
             task=replace(own.task, trial_steps=commands),
             lower_agent=replace(own.lower_agent, step_duration_s=step_s),
         )
-        try:
-            self.rules.lower_agent.step_duration_for(self.body)
-        except ValueError as exc:
-            raise FormationError(str(exc), file=body.file) from None
+        sweep, joint = self.rules.lower_agent.sweep_s(self.body)
+        if sweep > step_s:
+            message = (
+                f"joint {joint} needs {sweep:.2f} s to cross its levels, more than the "
+                f"commands' step of {step_s} s"
+            )
+            raise FormationError(message, file=body.file)
         self.step_s = step_s
         self._trials = ExactTrials(formation=self.body, rules=self.rules, workers=1)
 

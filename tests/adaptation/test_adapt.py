@@ -56,8 +56,8 @@ def test_the_gaits_played_blind_on_the_hidden_body_or_by_it_as_a_robot_are_the_m
 ):
     # A lost leg's commands reach nothing, as the mapping drops them: the same trials.
     tripod = load_formation(resolve_formation("quadruped_tripod"))
-    mapped = adapt(repertoire, tripod, tmp_path / "mapped", trials=3)
-    blind = adapt_blind(repertoire, tripod, tmp_path / "blind", trials=3)
+    mapped = adapt(repertoire, tripod, tmp_path / "mapped", trials=2)
+    blind = adapt_blind(repertoire, tripod, tmp_path / "blind", trials=2)
     assert blind["mode"] == "blind" and blind["formation"] == "quadruped_tripod"
     played = [{k: v for k, v in t.items() if k != "wall_s"} for t in mapped["trials"]]
     assert played == [{k: v for k, v in t.items() if k != "wall_s"} for t in blind["trials"]]
@@ -66,7 +66,7 @@ def test_the_gaits_played_blind_on_the_hidden_body_or_by_it_as_a_robot_are_the_m
     assert np.array_equal(gait, read_postures(tmp_path / "mapped" / "gait.csv", 6))
     # The robot's side, played by the tripod: each gait file read, played, its distance written.
     out = tmp_path / "robot"
-    command = ("adapt", repertoire, "--external", "--trials", "3", "--out", out)
+    command = ("adapt", repertoire, "--external", "--trials", "2", "--out", out)
     assert run_cli(*command).returncode == 0
     facts = json.loads((out / "external.json").read_text())
     world = load_run_world(repertoire)

@@ -9,14 +9,17 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from helpers import run_cli
+from helpers import BIPED, run_cli
 
 from qdsega.adaptation import trajectory
 from qdsega.adaptation.adapt import Adaptation, MappedRepertoire
 from qdsega.adaptation.external import external_step
+from qdsega.adaptation.hidden_body import HiddenBody
 from qdsega.adaptation.repertoire import load_repertoire
 from qdsega.adaptation.trajectory import JointTrajectory
 from qdsega.description import World, load_formation, resolve_formation
+from qdsega.description.shipped import UNITS_DIR
+from qdsega.errors import FormationError
 from qdsega.training.joint_mapping import JointMapping
 
 
@@ -69,6 +72,7 @@ def robot(gait: Path) -> float:
     return round(float(np.mean(played.angles_rad[:, 0]) - np.mean(played.angles_rad[:, 5])), 6)
 
 
+@pytest.mark.slow  # the repertoire fixture: exact physics, seconds
 def test_a_robot_is_handed_each_gait_as_joint_angles_and_its_distances_steer_the_search(
     quadruped_repertoire, tmp_path
 ):
@@ -114,6 +118,7 @@ def test_a_robot_is_handed_each_gait_as_joint_angles_and_its_distances_steer_the
     assert "the robot, the intact body&#x27;s gaits" in (out / "report.html").read_text()
 
 
+@pytest.mark.slow  # the repertoire fixture: exact physics, seconds
 def test_a_rerun_goes_on_from_the_folder_and_asks_for_no_finished_trial_again(
     quadruped_repertoire, tmp_path, monkeypatch
 ):
@@ -149,6 +154,7 @@ def test_a_rerun_goes_on_from_the_folder_and_asks_for_no_finished_trial_again(
     assert done["trial_found"] == 3 and (out / "adapt.json").is_file()
 
 
+@pytest.mark.slow  # the repertoire fixture: exact physics, seconds
 def test_an_answer_or_a_folder_it_cannot_go_on_from_is_one_line(quadruped_repertoire, tmp_path):
     out = tmp_path / "robot"
     args = ("adapt", quadruped_repertoire, "--external", "--out", out)
@@ -173,3 +179,15 @@ def test_an_answer_or_a_folder_it_cannot_go_on_from_is_one_line(quadruped_repert
     assert result.returncode == 2 and "holds an adaptation played in exact physics" in (
         result.stderr
     )
+
+
+def test_a_hidden_body_too_slow_for_the_commands_step_is_refused(tmp_path):
+    slow = tmp_path / "units" / "slow_servo"
+    shutil.copytree(UNITS_DIR / "servo", slow)
+    unit = slow / "unit.yaml"
+    unit.write_text(unit.read_text().replace("velocity_rad_s: 5.8", "velocity_rad_s: 0.5"))
+    worn = BIPED.replace("{name: lift, unit: servo", "{name: lift, unit: slow_servo")
+    (tmp_path / "worn.yaml").write_text("units_dir: units\n" + worn)
+    body = load_formation(tmp_path / "worn.yaml")
+    with pytest.raises(FormationError, match=r"lift_joint needs 1\.40 s to cross its levels"):
+        HiddenBody(body=body, world=World(), step_s=0.5, commands=30)
