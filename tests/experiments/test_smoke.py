@@ -43,6 +43,7 @@ HELP_ONLY = (
     "experiments/memo_speed/memo_mirror.py",  # physics_curve.py's measuring, mirrored
     "experiments/reform/screening_correlation.py",  # full runs of every candidate
     "experiments/reform/reform_table.py",  # reads reform folders (tests/reform covers them)
+    "experiments/adaptation/blind_table.py",  # adapt and adapt_blind: tests/adaptation covers them
 )
 TINY_RUNS = {
     "experiments/msm/reproduce_msm.py": (
@@ -63,8 +64,7 @@ TINY_RUNS = {
     "experiments/file_physics/run.py": ("--bodies", "quadruped", "--seconds", "0.5"),
 }  # fmt: skip
 ON_A_REPERTOIRE = "experiments/adaptation/adaptation_table.py"
-BLIND = ("experiments/adaptation/blind_table.py", "experiments/adaptation/stand_in_robot.py")
-"""Run below on a tiny repertoire: the blind adaptation, and the robot that plays it."""
+STAND_IN = "experiments/adaptation/stand_in_robot.py"  # run below on a tiny repertoire
 ON_A_RUN = (  # run below on the tiny runs reconfiguration_table.py makes
     "experiments/reconfiguration/reconfiguration_table.py",
     "experiments/memo_speed/memo_shortcuts.py",
@@ -91,7 +91,7 @@ def test_every_script_is_smoke_tested_and_has_a_usage_and_a_main():
         for p in (ROOT / folder).rglob("*.py")
     }
     own_tests = {"tools/random_formations.py", "tools/diagrams.py"}
-    tested = {*HELP_ONLY, *TINY_RUNS, *ON_A_RUN, ON_A_REPERTOIRE, *BLIND, *own_tests}
+    tested = {*HELP_ONLY, *TINY_RUNS, *ON_A_RUN, ON_A_REPERTOIRE, STAND_IN, *own_tests}
     assert scripts == tested
     for path in scripts:
         text = (ROOT / path).read_text(encoding="utf-8")
@@ -212,16 +212,15 @@ def test_adaptation_table_adapts_a_tiny_repertoire(quadruped_repertoire, tmp_pat
     assert (warm / "warm_start.json").is_file() and (warm / "summary.json").is_file()
 
 
-def test_the_stand_in_robot_plays_the_blind_tables_trials(quadruped_repertoire, tmp_path):
-    table = script(BLIND[0], "--change", quadruped_repertoire, "quadruped_tripod", "--trials",
-                   "2", "--out", tmp_path / "blind")  # fmt: skip
-    assert table.returncode == 0, table.stderr
-    assert "| quadruped -> `quadruped_tripod` | " in table.stdout and "| yes |" in table.stdout
-    robot = script(BLIND[1], quadruped_repertoire, "--body", "quadruped_tripod", "--trials", "2",
-                   "--out", tmp_path / "robot")  # fmt: skip
-    assert robot.returncode == 0, robot.stderr
-    played = json.loads((tmp_path / "robot" / "adapt.json").read_text())["trials"]
-    blind = json.loads((tmp_path / "blind" / "quadruped_tripod-blind" / "adapt.json").read_text())
-    assert [(t["cell"], t["distance_m"]) for t in played] == [
-        (t["cell"], t["distance_m"]) for t in blind["trials"]
+def test_the_stand_in_robot_drives_an_external_adaptation_to_its_end(
+    quadruped_repertoire, tmp_path
+):
+    out = tmp_path / "robot"
+    result = script(STAND_IN, quadruped_repertoire, "--body", "quadruped_tripod", "--trials", "2",
+                    "--out", out)  # fmt: skip
+    assert result.returncode == 0, result.stderr
+    found = json.loads((out / "adapt.json").read_text())
+    assert found["mode"] == "external" and 1 <= len(found["trials"]) <= 2
+    assert sorted(p.stem for p in (out / "trials").glob("*.result")) == [
+        f"{k:03d}" for k in range(1, len(found["trials"]) + 1)
     ]
