@@ -62,15 +62,24 @@ class Curve:
             return None
         return int(self.steps[hits[0]]), float(self.wall_s[hits[0]])
 
-    def save(self, file: Path) -> None:
-        """Write the curve as JSON, atomically."""
+    def save(self, file: Path, *, key: str) -> None:
+        """Write the curve as JSON, atomically, with ``key``: what it was made under."""
         data = {
+            "key": key,
             "steps": self.steps.tolist(),
             "distance_m": self.distance_m.tolist(),
             "wall_s": self.wall_s.tolist(),
         }
         with replaced_atomically(file) as partial:
             partial.write_text(json.dumps(data) + "\n", encoding="utf-8")
+
+    @staticmethod
+    def key_of(file: Path) -> str | None:
+        """The key ``file`` was saved with; None for a file of before keys, or none there."""
+        try:
+            return json.loads(file.read_text(encoding="utf-8")).get("key")
+        except (OSError, ValueError):
+            return None
 
     @classmethod
     def load(cls, file: Path) -> Curve:

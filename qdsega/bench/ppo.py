@@ -4,10 +4,11 @@ PPO learns in ``qdsega/TableLocomotion-v0`` (:mod:`qdsega.locomotion.table_env`)
 a PyBullet task the memo table, each pair measured in PyBullet on first use, so PPO runs at
 table speed where QDSEGA does and spends the same budget (MSM steps; PyBullet steps measured),
 in the task's world (its table measured there from as many spots as QDSEGA's).
-Its hyperparameters are stable-baselines3's defaults but for ``n_steps``, the rollout length,
-which is also how often its deterministic policy is scored in exact physics (the MSM itself, or
-:class:`qdsega.locomotion.env.LocomotionEnv`); those scoring episodes are not counted in its
-budget, as QDSEGA's exact replays are (they steer its learning).
+Its hyperparameters are stable-baselines3's defaults but for the environments side by side,
+the rollout length and the minibatch (below). After every rollout its deterministic policy is
+scored in exact physics (the MSM itself, or :class:`qdsega.locomotion.env.LocomotionEnv`);
+those scoring episodes are not counted in its budget, as QDSEGA's exact replays are (they steer
+its learning).
 
 Needs the ``bench`` extra (``pip install -e '.[bench]'`` in the checkout).
 """
@@ -29,17 +30,18 @@ from qdsega.training.sims import memo_spots
 if TYPE_CHECKING:  # the memo table starts PyBullet
     from qdsega.locomotion.memo import MeasuredTransitions
 
-ENVS = {"msm": 16, "pybullet": 1}
-"""Environments PPO steps side by side per simulator: in the MSM 16, so that each policy call
-serves 16 steps (stable-baselines3 spends most of its time building one distribution per joint
-per call); in PyBullet 1, since each environment would measure its own memo table (-)."""
-ROLLOUT_STEPS = {"msm": 2048, "pybullet": 256}
-"""Steps per PPO rollout, all environments together: stable-baselines3's default in the MSM;
-shorter in PyBullet, whose budget holds a few thousand steps (-). A task whose ``ppo_steps``
-are fewer has one rollout of that many steps."""
-BATCH = 256
-"""PPO's minibatch (-): 4x stable-baselines3's default of 64, for 4x fewer gradient steps
-(at most one rollout)."""
+ENVS = {"msm": 64, "pybullet": 1}
+"""Environments PPO steps side by side per simulator: in the MSM 64, so that each policy call
+serves 64 steps (stable-baselines3 spends most of its time building one distribution per joint
+per call; 16 gave half the speed, 256 no more); in PyBullet 1, since each environment would
+measure its own memo table (-)."""
+ROLLOUT_STEPS = {"msm": 8192, "pybullet": 256}
+"""Steps per PPO rollout, all environments together: 128 per environment in the MSM; shorter in
+PyBullet, whose budget holds a few thousand steps (-). A task whose ``ppo_steps`` are fewer has
+one rollout of that many steps."""
+BATCH = {"msm": 1024, "pybullet": 256}
+"""PPO's minibatch per simulator (-): 8 minibatches per rollout in the MSM, so that 1e7 steps
+take under an hour on one core; 4x stable-baselines3's default of 64 in PyBullet."""
 
 
 def _factory(env: gym.Env) -> Callable[[], gym.Env]:
@@ -98,7 +100,7 @@ def ppo_curve(task: BenchTask, seed: int) -> Curve:
 
     rollout = min(ROLLOUT_STEPS[task.sim], task.ppo_steps)
     n_steps = max(rollout // len(envs), 2)
-    batch = min(BATCH, n_steps * len(envs))
+    batch = min(BATCH[task.sim], n_steps * len(envs))
     model = PPO(
         "MlpPolicy", vector, n_steps=n_steps, batch_size=batch, seed=seed, device="cpu", verbose=0
     )

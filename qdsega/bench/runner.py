@@ -1,10 +1,11 @@
 """``qdsega bench``: every method on every task for every seed, then the report.
 
 Each run (task, method, seed) works in ``OUT/runs/TASK/METHOD-seedS/`` and leaves its curve in
-``OUT/results/TASK/METHOD-seedS.json`` when it finishes; a re-run skips finished runs (and a
-QDSEGA training run resumes where a crash left it), so a stopped benchmark continues. Runs go
-to ``jobs`` worker processes, each run on one core. A run that fails is reported with its
-error, the others go on, and the report leaves it out.
+``OUT/results/TASK/METHOD-seedS.json`` when it finishes, with the key of what it was made under
+(:meth:`BenchRun.key`); a re-run skips finished runs of the same key (and a QDSEGA training
+run resumes where a crash left it), so a stopped benchmark continues, and a run whose settings
+changed runs again. Runs go to ``jobs`` worker processes, each run on one core, or to Ray. A
+run that fails is reported with its error, the others go on, and the report leaves it out.
 """
 
 from __future__ import annotations
@@ -36,7 +37,7 @@ class BenchJob:
         return f"{self.run.task.name} {self.run.name}"
 
     def kept(self) -> bool:
-        return self.run.result(self.out).is_file()
+        return Curve.key_of(self.run.result(self.out)) == self.run.key()
 
     def __call__(self) -> str | None:
         if self.kept():
@@ -47,7 +48,7 @@ class BenchJob:
             curve = METHODS[self.run.method](self.run.task, self.run.seed, folder)
             file = self.run.result(self.out)
             file.parent.mkdir(parents=True, exist_ok=True)
-            curve.save(file)
+            curve.save(file, key=self.run.key())
             return None
         except TrainingInterrupted:
             raise
@@ -60,11 +61,13 @@ def run_all(
     out: Path,
     *,
     jobs: int,
+    ray: str | None = None,
     log: Callable[[str], None] = print,
     progress: ProgressFactory | None = None,
 ) -> list[str]:
-    """Run every unfinished run, ``jobs`` at a time (:func:`qdsega.driver.run_jobs`); return
-    the failed runs' one-line errors. ``progress``: as the driver's."""
+    """Run every unfinished run, ``jobs`` at a time or as Ray tasks (``ray``: ``local`` or an
+    address, :func:`qdsega.driver.run_jobs`); return the failed runs' one-line errors.
+    ``progress``: as the driver's."""
     if jobs < 1:
         raise ValueError(f"jobs must be at least 1, got {jobs}")
     bench_jobs = [BenchJob(run, out) for run in runs]
@@ -83,6 +86,7 @@ def run_all(
     errors = run_jobs(
         bench_jobs,
         processes=jobs,
+        ray=ray,
         label="bench",
         report=ended,
         progress=None if len(kept) == len(runs) else progress,
@@ -91,8 +95,12 @@ def run_all(
 
 
 def load_curves(runs: Sequence[BenchRun], out: Path) -> dict[BenchRun, Curve]:
-    """The curves of the finished runs."""
-    return {run: Curve.load(run.result(out)) for run in runs if run.result(out).is_file()}
+    """The curves of the runs finished under their current settings."""
+    return {
+        run: Curve.load(run.result(out))
+        for run in runs
+        if Curve.key_of(run.result(out)) == run.key()
+    }
 
 
 def run_bench(
@@ -101,6 +109,7 @@ def run_bench(
     *,
     jobs: int,
     command: str,
+    ray: str | None = None,
     log: Callable[[str], None] = print,
     progress: ProgressFactory | None = None,
 ) -> tuple[Path, list[str]]:
@@ -109,7 +118,7 @@ def run_bench(
 
     made = provenance(command)
     runs = bench_runs(tasks)
-    errors = run_all(runs, out, jobs=jobs, log=log, progress=progress)
+    errors = run_all(runs, out, jobs=jobs, ray=ray, log=log, progress=progress)
     log("measuring throughput")
     file = write_report(
         tasks=tasks,

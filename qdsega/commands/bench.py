@@ -8,6 +8,7 @@ import sys
 from pathlib import Path
 
 from qdsega.errors import ConfigError
+from qdsega.workers.ray_cluster import add_ray_option
 
 NAME = "bench"
 HELP = (
@@ -26,6 +27,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "runs/bench-quick; in a world other than flat, -WORLD appended)",
     )  # fmt: skip
     parser.add_argument("--jobs", type=int, default=2, metavar="N", help="runs at a time")
+    add_ray_option(parser)
     parser.add_argument(
         "--world", metavar="WORLD",
         help="run the PyBullet tasks in this world, a world file or a shipped name (flat, ice, "
@@ -42,6 +44,10 @@ def run(args: argparse.Namespace) -> int:
 
     if args.jobs < 1:
         raise ConfigError(f"--jobs must be at least 1, got {args.jobs}")
+    if args.ray is not None:  # refused here, before anything is written
+        from qdsega.workers.ray_cluster import connect
+
+        connect(args.ray)
     every = QUICK if args.quick else FULL
     tasks, left_out = in_world(every, args.world or FLAT)  # a bad world: WorldError, exit 2
     if not tasks:
@@ -60,10 +66,11 @@ def run(args: argparse.Namespace) -> int:
     world = "" if args.world is None else f" --world {args.world}"
     command = "qdsega bench" + (" --quick" if args.quick else "") + world + f" --out {out}"
     for task in left_out:
-        print(f"qdsega bench: {task.name} left out: the MSM knows no terrain", flush=True)
+        why = "the MSM knows no terrain" if task.sim == "msm" else f"it walks in {task.world}"
+        print(f"qdsega bench: {task.name} left out: {why}", flush=True)
     print(f"qdsega bench: {len(bench_runs(tasks))} runs -> {out}", flush=True)
     file, errors = run_bench(
-        tasks, out, jobs=args.jobs, command=command, log=_log, progress=ProgressLine
+        tasks, out, jobs=args.jobs, ray=args.ray, command=command, log=_log, progress=ProgressLine
     )  # runs finished of all, with an ETA, on stderr
     print(f"qdsega bench: {len(errors)} runs failed -> {file}" if errors else f"-> {file}")
     return 1 if errors else 0

@@ -7,6 +7,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from qdsega.errors import ConfigError
+from qdsega.workers.ray_cluster import add_ray_option
 
 if TYPE_CHECKING:
     import numpy as np
@@ -42,7 +43,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     )
     parser.add_argument("--out", type=Path, metavar="DIR", help="default runs/match")
     parser.add_argument("--jobs", type=int, default=1, metavar="N", help="runs at a time")
-    parser.add_argument("--ray", metavar="local|ADDRESS", help="runs as Ray tasks instead")
+    add_ray_option(parser)
 
 
 def run(args: argparse.Namespace) -> int:

@@ -8,6 +8,7 @@ from pathlib import Path
 from qdsega.errors import ConfigError
 from qdsega.progress import ProgressLine
 from qdsega.sweep import SweepRun, read_grid, run_sweep
+from qdsega.workers.ray_cluster import add_ray_option
 
 NAME = "sweep"
 HELP = (
@@ -27,12 +28,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--jobs", type=int, default=1, metavar="N", help="runs at a time on local processes"
     )
-    parser.add_argument(
-        "--ray",
-        metavar="local|ADDRESS",
-        help="spread runs over Ray tasks instead: local starts Ray here, an address joins a "
-        "cluster (its nodes see OUT on a shared file system)",
-    )
+    add_ray_option(parser)
 
 
 def run(args: argparse.Namespace) -> int:

@@ -14,6 +14,7 @@ down 5x, measured here), unless ``RAY_worker_niceness`` is set.
 
 from __future__ import annotations
 
+import argparse
 import logging
 import os
 from collections.abc import Callable, Iterable, Iterator
@@ -23,6 +24,16 @@ from qdsega.errors import WorkerError
 
 LOCAL = "local"
 """The ``--ray`` value that starts a Ray instance on this machine."""
+
+
+def add_ray_option(parser: argparse.ArgumentParser) -> None:
+    """``--ray``, for a command whose runs :func:`run_jobs` spreads."""
+    parser.add_argument(
+        "--ray",
+        metavar="local|ADDRESS",
+        help="spread runs over Ray tasks instead of --jobs processes: local starts Ray here, an "
+        "address joins a cluster (its nodes see the output folder on a shared file system)",
+    )
 
 
 def connect(address: str, *, cpus: int = 0) -> Any:

@@ -24,7 +24,7 @@ def test_until_keeps_the_points_within_the_budget():
 
 
 def test_a_curve_survives_a_round_trip_through_json(tmp_path):
-    CURVE.save(tmp_path / "c.json")
+    CURVE.save(tmp_path / "c.json", key="k")
     again = Curve.load(tmp_path / "c.json")
     for name in ("steps", "distance_m", "wall_s"):
         assert np.array_equal(getattr(again, name), getattr(CURVE, name))

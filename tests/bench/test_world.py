@@ -24,8 +24,17 @@ SNAKE = next(task for task in QUICK if task.sim == "pybullet")
 def test_flat_keeps_every_task_and_its_name():
     for tasks in (FULL, QUICK):
         assert in_world(tasks, "flat") == (tasks, ())
-    assert [task.name for task in FULL] == ["legged12-msm", "snake5-pybullet"]
-    assert all(task.exact_rules().world == World() for task in FULL)  # no file: as before
+    flat = [task for task in FULL if task.world == "flat"]
+    assert [task.name for task in flat] == [
+        "legged12-msm", "snake5-pybullet", "quadruped-pybullet", "legged12-pybullet"
+    ]  # fmt: skip
+    assert all(task.exact_rules().world == World() for task in flat)  # no file: as before
+
+
+def test_a_world_leaves_out_the_tasks_of_a_world_of_their_own():
+    kept, left_out = in_world(FULL, "stairs")
+    assert [task.name for task in left_out] == ["legged12-msm", "snake5-pybullet-rubble"]
+    assert all(task.world == "stairs" for task in kept) and len(kept) == 3
 
 
 def test_a_world_moves_the_pybullet_tasks_there_and_leaves_the_msm_out():
