@@ -39,6 +39,9 @@ LEARNING_SIM = {"msm": "msm", "pybullet": "memo"}
 :class:`qdsega.locomotion.table_env.TableLocomotionEnv`)."""
 FLAT = "flat"
 """The world every task walks in unless told otherwise: the plane of before worlds existed."""
+PYBULLET_ONLY = ("ppo-joint", "sac-joint")
+"""The methods that learn under continuous control in PyBullet
+(:mod:`qdsega.bench.joint_learners`): the MSM has no joints to drive."""
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -83,6 +86,12 @@ class BenchTask:
             raise ValueError("seeds, budget_steps and generations must be at least 1")
         if self.sim == "msm" and self.world != FLAT:
             raise ValueError(f"the MSM knows no terrain: {self.name} cannot walk in {self.world}")
+        joint = [method for method in self.methods if method in PYBULLET_ONLY]
+        if self.sim == "msm" and joint:
+            raise ValueError(
+                f"{self.name} cannot run {', '.join(joint)}: they drive joints in PyBullet "
+                "(qdsega/JointLocomotion-v0), and the MSM has no joints to drive"
+            )
 
     def load_world(self) -> World:
         """The world its learners walk in and are judged in."""
@@ -196,9 +205,14 @@ def _light(formation: Formation) -> tuple[float, float]:
 
 
 ALL_METHODS = (
-    "qdsega", "qdsega-no-carry", "fixed-set", "ga-sequence", "random-search", "cma-cpg", "ppo"
+    "qdsega", "qdsega-no-carry", "fixed-set", "ga-sequence", "random-search", "cma-cpg", "ppo",
+    "ppo-joint", "sac-joint",
 )  # fmt: skip
 """Every method of :data:`qdsega.bench.methods.METHODS`, in report order."""
+MSM_METHODS = tuple(method for method in ALL_METHODS if method not in PYBULLET_ONLY)
+"""Every method an MSM task can run."""
+STABLE_BASELINES = ("ppo", "ppo-joint", "sac-joint")
+"""The methods that need stable-baselines3 (the ``bench`` extra)."""
 
 FULL = (
     BenchTask(
@@ -209,7 +223,7 @@ FULL = (
         seeds=5,
         generations=200,
         ppo_steps=100_000,
-        methods=ALL_METHODS,
+        methods=MSM_METHODS,
         budgets=(10_000, 100_000, 1_000_000, 10_000_000, 60_000_000),
         forced=(
             "The QDSEGA runs (all three) are the paper's whole protocol, 200 generations of "
@@ -227,7 +241,15 @@ FULL = (
         seeds=3,
         generations=5,
         ppo_steps=50_000,
-        methods=("qdsega", "ga-sequence", "random-search", "cma-cpg", "ppo"),
+        methods=(
+            "qdsega",
+            "ga-sequence",
+            "random-search",
+            "cma-cpg",
+            "ppo",
+            "ppo-joint",
+            "sac-joint",
+        ),
         budgets=(300, 1000, 2000, 3000),
         forced=(
             "3 seeds, not 5, and 3000 PyBullet steps per run (about 2 minutes a run on one "
@@ -251,7 +273,7 @@ QUICK = (
         trials=100,
         population=20,
         ppo_steps=512,
-        methods=ALL_METHODS,
+        methods=MSM_METHODS,
         budgets=(1_000, 10_000, 20_000),
         forced="Quick mode: tiny budgets that check the pipeline, not the methods.",
     ),
@@ -265,8 +287,9 @@ QUICK = (
         trials=50,
         population=6,
         ppo_steps=30,
-        # one of each way into PyBullet: a learner's run, open-loop sequences, an env
-        methods=("qdsega", "cma-cpg", "ppo"),
+        # one of each way into PyBullet: a learner's run, open-loop sequences, an env, and
+        # joint control (both learners: 4,320 env steps each)
+        methods=("qdsega", "cma-cpg", "ppo", "ppo-joint", "sac-joint"),
         budgets=(120, 360),
         forced="Quick mode: tiny budgets that check the pipeline, not the methods.",
     ),
