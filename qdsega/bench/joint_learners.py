@@ -57,7 +57,7 @@ def joint_curve(
     deterministic policy's exact distance every ``score_every`` posture steps and where the
     budget ends.
 
-    A PyBullet task's (:class:`BenchTask` refuses the method on an MSM task).
+    ``task`` is a PyBullet one: :class:`BenchTask` refuses these methods on an MSM task.
 
     Raises:
         ValueError: an unknown learner or a score interval below 1.
@@ -77,32 +77,29 @@ def joint_curve(
             "pip install -e '.[bench]' in the checkout"
         ) from None
     torch.set_num_threads(1)
-    env, judge = _env(task), _env(task)
     start = time.perf_counter()
     points: list[tuple[int, float, float]] = []
-
-    def score() -> None:
-        spent = posture_steps(model.num_timesteps)
-        points.append((spent, greedy_distance(judge, model), time.perf_counter() - start))
-
-    class Score(BaseCallback):
-        def _on_step(self) -> bool:
-            if self.num_timesteps % env_steps(score_every) == 0:
-                score()
-            return posture_steps(self.num_timesteps) < task.budget_steps
-
     model: Any
-    try:
+
+    with _env(task) as env, _env(task) as judge:
+
+        def score() -> None:
+            spent = posture_steps(model.num_timesteps)
+            points.append((spent, greedy_distance(judge, model), time.perf_counter() - start))
+
+        class Score(BaseCallback):
+            def _on_step(self) -> bool:
+                if self.num_timesteps % env_steps(score_every) == 0:
+                    score()
+                return posture_steps(self.num_timesteps) < task.budget_steps
+
         if learner == "ppo":
             model = PPO("MlpPolicy", env, n_steps=env_steps(score_every), seed=seed, device="cpu")
         else:
             model = SAC("MlpPolicy", env, seed=seed, device="cpu")
         model.learn(total_timesteps=env_steps(task.budget_steps), callback=Score())
         if not points or points[-1][0] < posture_steps(model.num_timesteps):
-            score()
-    finally:
-        env.close()
-        judge.close()
+            score()  # where the budget ended, past the last interval
     return Curve.of(points)
 
 
