@@ -11,6 +11,9 @@
 * ``cma-cpg``: CMA-ES over a CPG gait's parameters
   (:func:`qdsega.baselines.reference_search.search_cpg`, the reference search as a learner).
 * ``ppo``: :mod:`qdsega.bench.ppo`.
+* ``ppo-joint``, ``sac-joint``: PPO and SAC under continuous control (joint targets), PyBullet
+  tasks only; steps are posture steps' worth of physics time
+  (:mod:`qdsega.bench.joint_learners`).
 
 The sequence methods play one trial per candidate in the task's arena; their answer is the best
 sequence that completed a trial so far, and its distance there is exact by construction. Every
@@ -213,6 +216,20 @@ def ppo(task: BenchTask, seed: int, folder: Path) -> Curve:
     return ppo_curve(task, seed)
 
 
+def ppo_joint(task: BenchTask, seed: int, folder: Path) -> Curve:
+    """PPO from stable-baselines3 driving the joints (:mod:`qdsega.bench.joint_learners`)."""
+    from qdsega.bench.joint_learners import joint_curve  # needs the bench extra: only here
+
+    return joint_curve(task, seed, learner="ppo")
+
+
+def sac_joint(task: BenchTask, seed: int, folder: Path) -> Curve:
+    """SAC from stable-baselines3 driving the joints (:mod:`qdsega.bench.joint_learners`)."""
+    from qdsega.bench.joint_learners import joint_curve  # needs the bench extra: only here
+
+    return joint_curve(task, seed, learner="sac")
+
+
 METHODS: dict[str, Method] = {
     "qdsega": qdsega,
     "qdsega-no-carry": qdsega_no_carry,
@@ -221,6 +238,8 @@ METHODS: dict[str, Method] = {
     "random-search": random_search,
     "cma-cpg": cma_cpg,
     "ppo": ppo,
+    "ppo-joint": ppo_joint,
+    "sac-joint": sac_joint,
 }
 """Every method, by name."""
 ABLATIONS = ("qdsega-no-carry", "fixed-set")

@@ -92,7 +92,7 @@ def ppo_curve(task: BenchTask, seed: int) -> Curve:
 
     class Score(BaseCallback):
         def _on_rollout_end(self) -> None:
-            distance = _episode(judge, model)
+            distance = greedy_distance(judge, model)
             points.append((spent(), distance, time.perf_counter() - start))
 
         def _on_step(self) -> bool:
@@ -106,7 +106,7 @@ def ppo_curve(task: BenchTask, seed: int) -> Curve:
     )
     try:
         model.learn(total_timesteps=task.ppo_steps, callback=Score())
-        points.append((spent(), _episode(judge, model), time.perf_counter() - start))
+        points.append((spent(), greedy_distance(judge, model), time.perf_counter() - start))
     finally:
         vector.close()
         judge.close()
@@ -123,8 +123,9 @@ def _exact_env(task: BenchTask) -> gym.Env[np.ndarray, np.ndarray]:
     return rules_env(formation, task.exact_rules())
 
 
-def _episode(env: Any, model: Any) -> float:
-    """Distance toward the light (m) of one episode of ``model``'s deterministic policy."""
+def greedy_distance(env: Any, model: Any) -> float:
+    """Distance toward the light (m) of one episode of ``model``'s deterministic policy in
+    ``env`` (any env with ``distance_covered``: the joint-env learners score with it too)."""
     observation, _ = env.reset(seed=0)
     done = False
     while not done:

@@ -26,6 +26,7 @@ from qdsega.bench.curve import Curve
 from qdsega.bench.methods import ABLATIONS
 from qdsega.bench.runs import BenchRun
 from qdsega.bench.tasks import BenchTask
+from qdsega.locomotion import CONTROLS_PER_POSTURE
 
 REACH = 0.9
 """The fraction of the yardstick whose cost the report gives (-)."""
@@ -74,9 +75,12 @@ def write_report(
         "learning curves in `results/`; nothing is typed in by hand.",
         "",
         "A method's score after a budget is the exact distance toward the light of its answer "
-        "at that point (QDSEGA and PPO: the greedy policy; the sequence methods: the best "
-        "posture sequence that completed a trial), as a fraction of the task's yardstick. "
-        "Steps are upper-agent steps (postures commanded) spent in the task's world.",
+        "at that point (QDSEGA and the stable-baselines3 learners: the greedy policy; the "
+        "sequence methods: the best posture sequence that completed a trial), as a fraction of "
+        "the task's yardstick. Steps are upper-agent steps (postures commanded) spent in the "
+        "task's world; for ppo-joint and sac-joint, which set joint targets "
+        f"{CONTROLS_PER_POSTURE} times per posture step, their env steps / "
+        f"{CONTROLS_PER_POSTURE}: the same physics time.",
         "",
     ]
     for task in tasks:

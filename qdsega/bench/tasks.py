@@ -39,6 +39,9 @@ LEARNING_SIM = {"msm": "msm", "pybullet": "memo"}
 :class:`qdsega.locomotion.table_env.TableLocomotionEnv`)."""
 FLAT = "flat"
 """The world every task walks in unless told otherwise: the plane of before worlds existed."""
+PYBULLET_ONLY = ("ppo-joint", "sac-joint")
+"""The methods that learn under continuous control in PyBullet
+(:mod:`qdsega.bench.joint_learners`): the MSM has no joints to drive."""
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -56,7 +59,9 @@ class BenchTask:
         generations: QDSEGA's generations (its run ends there or at the budget) (-).
         trials: QDSEGA's trials per generation; None keeps the preset's (-).
         population: QDSEGA's population; None keeps the preset's (-).
-        ppo_steps: PPO's environment steps, at most (-); PPO also stops at the budget.
+        ppo_steps: posture steps the learners that take steps may take, at most (-): PPO's
+            steps in its table, the joint learners' in physics time; they also stop at the
+            budget.
         methods: the methods run, names of :data:`qdsega.bench.methods.METHODS`.
         budgets: the fixed budgets of the table (steps).
         forced: what the time available forced on this task, for the report.
@@ -83,6 +88,12 @@ class BenchTask:
             raise ValueError("seeds, budget_steps and generations must be at least 1")
         if self.sim == "msm" and self.world != FLAT:
             raise ValueError(f"the MSM knows no terrain: {self.name} cannot walk in {self.world}")
+        joint = [method for method in self.methods if method in PYBULLET_ONLY]
+        if self.sim == "msm" and joint:
+            raise ValueError(
+                f"{self.name} cannot run {', '.join(joint)}: they drive joints in PyBullet "
+                "(qdsega/JointLocomotion-v0), and the MSM has no joints to drive"
+            )
 
     def load_world(self) -> World:
         """The world its learners walk in and are judged in."""
@@ -198,11 +209,18 @@ def _light(formation: Formation) -> tuple[float, float]:
 
 
 ALL_METHODS = (
-    "qdsega", "qdsega-no-carry", "fixed-set", "ga-sequence", "random-search", "cma-cpg", "ppo"
+    "qdsega", "qdsega-no-carry", "fixed-set", "ga-sequence", "random-search", "cma-cpg", "ppo",
+    "ppo-joint", "sac-joint",
 )  # fmt: skip
 """Every method of :data:`qdsega.bench.methods.METHODS`, in report order."""
+MSM_METHODS = tuple(method for method in ALL_METHODS if method not in PYBULLET_ONLY)
+"""Every method an MSM task can run."""
+STABLE_BASELINES = ("ppo", "ppo-joint", "sac-joint")
+"""The methods that need stable-baselines3 (the ``bench`` extra)."""
 
-PYBULLET_METHODS = ("qdsega", "ga-sequence", "random-search", "cma-cpg", "ppo")
+PYBULLET_METHODS = (
+    "qdsega", "ga-sequence", "random-search", "cma-cpg", "ppo", "ppo-joint", "sac-joint"
+)  # fmt: skip
 """The methods of a PyBullet task: QDSEGA's ablations are measured in the MSM, where they cost
 a minute a seed, not in PyBullet."""
 
@@ -218,7 +236,7 @@ def _pybullet_task(formation: str, world: str = FLAT) -> BenchTask:
         budget_steps=3000,
         seeds=5,
         generations=30,
-        ppo_steps=3000,
+        ppo_steps=50_000,
         methods=PYBULLET_METHODS,
         budgets=(300, 1000, 2000, 3000),
         forced=(
@@ -237,7 +255,7 @@ FULL = (
         seeds=5,
         generations=200,
         ppo_steps=10_000_000,
-        methods=ALL_METHODS,
+        methods=MSM_METHODS,
         budgets=(10_000, 100_000, 1_000_000, 10_000_000, 60_000_000),
         forced=(
             "The QDSEGA runs (all three) are the paper's whole protocol, 200 generations of "
@@ -263,7 +281,7 @@ QUICK = (
         trials=100,
         population=20,
         ppo_steps=512,
-        methods=ALL_METHODS,
+        methods=MSM_METHODS,
         budgets=(1_000, 10_000, 20_000),
         forced="Quick mode: tiny budgets that check the pipeline, not the methods.",
     ),
@@ -277,8 +295,9 @@ QUICK = (
         trials=50,
         population=6,
         ppo_steps=30,
-        # one of each way into PyBullet: a learner's run, open-loop sequences, an env
-        methods=("qdsega", "cma-cpg", "ppo"),
+        # one of each way into PyBullet: a learner's run, open-loop sequences, an env, and
+        # joint control (both joint learners: 360 env steps each, one trial's physics time)
+        methods=("qdsega", "cma-cpg", "ppo", "ppo-joint", "sac-joint"),
         budgets=(120, 360),
         forced="Quick mode: tiny budgets that check the pipeline, not the methods.",
     ),

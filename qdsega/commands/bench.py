@@ -39,7 +39,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 def run(args: argparse.Namespace) -> int:
     from qdsega.bench.runner import run_bench
     from qdsega.bench.runs import bench_runs
-    from qdsega.bench.tasks import FLAT, FULL, QUICK, in_world, suffix
+    from qdsega.bench.tasks import FLAT, FULL, QUICK, STABLE_BASELINES, in_world, suffix
     from qdsega.progress import ProgressLine
 
     if args.jobs < 1:
@@ -54,12 +54,11 @@ def run(args: argparse.Namespace) -> int:
         raise ConfigError(
             f"the MSM knows no terrain and every task is in it: none walks in {args.world}"
         )
-    if (
-        any("ppo" in t.methods for t in tasks)
-        and importlib.util.find_spec("stable_baselines3") is None
-    ):
+    learners = sorted({m for t in tasks for m in t.methods if m in STABLE_BASELINES})
+    if learners and importlib.util.find_spec("stable_baselines3") is None:
         raise ConfigError(
-            "the ppo method needs stable-baselines3: pip install -e '.[bench]' in the checkout"
+            f"the methods {', '.join(learners)} need stable-baselines3: "
+            "pip install -e '.[bench]' in the checkout"
         )
     place = "" if tasks == every else suffix(args.world)
     out = args.out or Path(("runs/bench-quick" if args.quick else "benchmarks") + place)

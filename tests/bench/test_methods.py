@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from qdsega.bench.methods import METHODS
-from qdsega.bench.tasks import ALL_METHODS, FULL, QUICK, BenchTask
+from qdsega.bench.tasks import ALL_METHODS, FULL, MSM_METHODS, QUICK, BenchTask
 
 TINY = BenchTask(
     name="legged12-msm",
@@ -22,7 +22,7 @@ TINY = BenchTask(
     trials=40,
     population=10,
     ppo_steps=2048,
-    methods=ALL_METHODS,
+    methods=MSM_METHODS,
     budgets=(1000,),
 )
 SEQUENCE_METHODS = ("ga-sequence", "random-search", "cma-cpg")
@@ -79,3 +79,7 @@ def test_every_task_names_known_methods_and_increasing_budgets(tasks):
         assert set(task.methods) <= set(METHODS)
         assert list(task.budgets) == sorted(task.budgets)
         assert task.config(seed=0).sim == ("msm" if task.sim == "msm" else "memo")
+
+
+def test_every_method_has_its_place_in_the_report_order():
+    assert sorted(ALL_METHODS) == sorted(METHODS)
