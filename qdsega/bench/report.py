@@ -64,7 +64,8 @@ def write_report(
     provenance: Provenance,
     out: Path,
 ) -> Path:
-    """Write ``out/BENCHMARKS.md`` and ``out/figures/TASK.png``; return the Markdown file."""
+    """Write ``out/BENCHMARKS.md`` and ``out/figures/TASK.png``; return the Markdown file. A task
+    without a yardstick (none of its runs finished) gets a line saying so."""
     figures = out / "figures"
     figures.mkdir(parents=True, exist_ok=True)
     lines = [
@@ -84,6 +85,9 @@ def write_report(
         "",
     ]
     for task in tasks:
+        if task.name not in yardsticks:
+            lines += [f"## {task.name}", "", "No run of this task has finished yet.", ""]
+            continue
         name, yardstick = yardsticks[task.name]
         per_method = {
             method: [c for run, c in curves.items() if run.task == task and run.method == method]
@@ -121,11 +125,13 @@ def _task_section(
         "+ marks a budget some of the method's runs ended before (their protocol or step cap "
         "ended there: their last answer is counted):",
         "",
-        "| method | " + " | ".join(_count(b) for b in task.budgets) + " | end of run |",
-        "|---|" + "---|" * (len(task.budgets) + 1),
+        "| method | seeds | "
+        + " | ".join(_count(b) for b in task.budgets)
+        + " | end of run | wall time per run (median, s) |",
+        "|---|---|" + "---|" * (len(task.budgets) + 2),
     ]
     for method, curves in per_method.items():
-        cells = []
+        cells = [f"{len(curves)} of {task.seeds}"]
         for budget in task.budgets:
             mark = " +" if _ended_before(curves, budget) else ""
             values = np.array([c.at(np.array([budget]))[0] for c in curves])
@@ -133,8 +139,14 @@ def _task_section(
         ends = np.array([c.distance_m[-1] for c in curves])
         spent = np.mean([c.steps[-1] for c in curves])
         cells.append(f"{_spread(ends, yardstick)} at {_count(spent)}")
+        cells.append(f"{np.median([c.wall_s[-1] for c in curves]):.0f}")
         lines.append(f"| {method} | " + " | ".join(cells) + " |")
+    hours = sum(c.wall_s[-1] for curves in per_method.values() for c in curves) / 3600
+    finished = sum(len(curves) for curves in per_method.values())
     lines += [
+        "",
+        f"Its {finished} finished runs (of {task.seeds * len(task.methods)}) took "
+        f"{hours:.1f} h of one core in all.",
         "",
         f"Cost to reach {REACH} of the yardstick (median over the seeds that reached it):",
         "",

@@ -110,20 +110,26 @@ def run_bench(
     jobs: int,
     command: str,
     ray: str | None = None,
+    report_only: bool = False,
     log: Callable[[str], None] = print,
     progress: ProgressFactory | None = None,
 ) -> tuple[Path, list[str]]:
-    """Run the benchmark into ``out`` and write its report; return the report's file and the
-    failed runs' errors. ``progress``: as :func:`run_all`'s."""
+    """Run the benchmark into ``out`` (``report_only``: nothing more) and write its report from
+    the runs finished; return the report's file and the failed runs' errors. ``progress``: as
+    :func:`run_all`'s."""
 
     made = provenance(command)
     runs = bench_runs(tasks)
-    errors = run_all(runs, out, jobs=jobs, ray=ray, log=log, progress=progress)
+    errors = (
+        [] if report_only else run_all(runs, out, jobs=jobs, ray=ray, log=log, progress=progress)
+    )
+    curves = load_curves(runs, out)
+    started = {run.task.name for run in curves}
     log("measuring throughput")
     file = write_report(
         tasks=tasks,
-        curves=load_curves(runs, out),
-        yardsticks={task.name: task.yardstick() for task in tasks},
+        curves=curves,
+        yardsticks={task.name: task.yardstick() for task in tasks if task.name in started},
         throughput=throughput(),
         errors=errors,
         provenance=made,

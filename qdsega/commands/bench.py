@@ -29,6 +29,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--jobs", type=int, default=2, metavar="N", help="runs at a time")
     add_ray_option(parser)
     parser.add_argument(
+        "--report-only", action="store_true",
+        help="run nothing: write OUT/BENCHMARKS.md from the runs finished so far",
+    )  # fmt: skip
+    parser.add_argument(
         "--world", metavar="WORLD",
         help="run the PyBullet tasks in this world, a world file or a shipped name (flat, ice, "
         "slope, stairs, rubble, tunnel, corridor; docs/worlds.md), leaving out the MSM task, "
@@ -64,12 +68,20 @@ def run(args: argparse.Namespace) -> int:
     out = args.out or Path(("runs/bench-quick" if args.quick else "benchmarks") + place)
     world = "" if args.world is None else f" --world {args.world}"
     command = "qdsega bench" + (" --quick" if args.quick else "") + world + f" --out {out}"
+    command += " --report-only" if args.report_only else ""
     for task in left_out:
         why = "the MSM knows no terrain" if task.sim == "msm" else f"it walks in {task.world}"
         print(f"qdsega bench: {task.name} left out: {why}", flush=True)
     print(f"qdsega bench: {len(bench_runs(tasks))} runs -> {out}", flush=True)
     file, errors = run_bench(
-        tasks, out, jobs=args.jobs, ray=args.ray, command=command, log=_log, progress=ProgressLine
+        tasks,
+        out,
+        jobs=args.jobs,
+        ray=args.ray,
+        report_only=args.report_only,
+        command=command,
+        log=_log,
+        progress=ProgressLine,
     )  # runs finished of all, with an ETA, on stderr
     print(f"qdsega bench: {len(errors)} runs failed -> {file}" if errors else f"-> {file}")
     return 1 if errors else 0

@@ -60,3 +60,18 @@ def test_only_a_result_of_the_same_key_is_kept(tmp_path, monkeypatch):
     assert job.kept() and played == [0]  # run once, then kept
     assert runner.load_curves([run], tmp_path)[run].distance_m.tolist() == [0.1]
     assert runner.load_curves([stale], tmp_path) == {}
+
+
+def test_a_report_of_the_runs_finished_so_far_runs_nothing(tmp_path):
+    run = BenchRun(MSM, "qdsega", 0)
+    run.result(tmp_path).parent.mkdir(parents=True)
+    CURVE.save(run.result(tmp_path), key=run.key())
+    file, errors = runner.run_bench(
+        QUICK, tmp_path, jobs=1, command="qdsega bench", report_only=True, log=lambda line: None
+    )
+    report = file.read_text()
+    assert errors == [] and "| qdsega | 1 of 1 |" in report
+    assert "## snake5-pybullet\n\nNo run of this task has finished yet." in report
+    assert sorted(path.name for path in (tmp_path / "results").rglob("*.json")) == [
+        "qdsega-seed0.json"
+    ]  # nothing ran

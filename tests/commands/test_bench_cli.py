@@ -67,6 +67,6 @@ def test_a_rerun_skips_every_finished_run(quick, tmp_path):
 
 def test_ppo_without_stable_baselines3_is_refused_with_one_line(monkeypatch):
     monkeypatch.setattr(importlib.util, "find_spec", lambda name: None)
-    args = argparse.Namespace(quick=True, out=None, jobs=1, world=None, ray=None)
+    args = argparse.Namespace(quick=True, out=None, jobs=1, world=None, ray=None, report_only=False)
     with pytest.raises(ConfigError, match=r"pip install -e '\.\[bench\]'"):
         bench.run(args)
