@@ -10,6 +10,7 @@ run that fails is reported with its error, the others go on, and the report leav
 
 from __future__ import annotations
 
+import shutil
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -23,6 +24,9 @@ from qdsega.bench.throughput import throughput
 from qdsega.driver import error_line, run_jobs
 from qdsega.progress import ProgressFactory
 from qdsega.training.run import TrainingInterrupted
+
+KEY_FILE = "key"
+"""The file of a run's work folder that holds its key (:meth:`BenchRun.key`)."""
 
 
 @dataclass(frozen=True)
@@ -43,8 +47,7 @@ class BenchJob:
         if self.kept():
             return None
         try:
-            folder = self.run.folder(self.out)
-            folder.mkdir(parents=True, exist_ok=True)
+            folder = self._fresh_folder()
             curve = METHODS[self.run.method](self.run.task, self.run.seed, folder)
             file = self.run.result(self.out)
             file.parent.mkdir(parents=True, exist_ok=True)
@@ -54,6 +57,18 @@ class BenchJob:
             raise
         except Exception as exc:  # a failed run is reported, not fatal
             return error_line(exc)
+
+    def _fresh_folder(self) -> Path:
+        """The run's work folder, holding its key: what an interrupted run of the same key left
+        is kept (a training run resumes from it), a folder of other settings emptied first."""
+        folder = self.run.folder(self.out)
+        key_file = folder / KEY_FILE
+        key = self.run.key()
+        if folder.exists() and (not key_file.is_file() or key_file.read_text() != key):
+            shutil.rmtree(folder)
+        folder.mkdir(parents=True, exist_ok=True)
+        key_file.write_text(key)
+        return folder
 
 
 def run_all(

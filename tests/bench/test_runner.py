@@ -62,6 +62,24 @@ def test_only_a_result_of_the_same_key_is_kept(tmp_path, monkeypatch):
     assert runner.load_curves([stale], tmp_path) == {}
 
 
+def test_a_work_folder_of_other_settings_is_emptied_and_one_of_the_same_kept(tmp_path, monkeypatch):
+    run = BenchRun(MSM, "qdsega", 0)
+    seen = []
+
+    def method(task, seed, folder):
+        seen.append(sorted(path.name for path in folder.iterdir()))
+        (folder / "left").write_text("a run's work")
+        raise RuntimeError("killed")
+
+    monkeypatch.setitem(runner.METHODS, "qdsega", method)
+    folder = run.folder(tmp_path)
+    folder.mkdir(parents=True)
+    (folder / "old").write_text("a run of before keys")
+    job = runner.BenchJob(run, tmp_path)
+    assert "killed" in job() and "killed" in job()
+    assert seen == [["key"], ["key", "left"]]  # emptied, then kept for the same key
+
+
 def test_a_report_of_the_runs_finished_so_far_runs_nothing(tmp_path):
     run = BenchRun(MSM, "qdsega", 0)
     run.result(tmp_path).parent.mkdir(parents=True)
