@@ -156,6 +156,9 @@ def _stop_with_the_driver() -> None:
     that nothing goes on writing a folder without the driver."""
     global _driver
     _driver = os.getppid()
+    # A driver started in the background of a script has SIGINT ignored, and its jobs inherit
+    # that: without Python's own handler, the SIGINT below would change nothing.
+    signal.signal(signal.SIGINT, signal.default_int_handler)
 
     def watch() -> None:
         while not _driver_gone():

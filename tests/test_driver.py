@@ -1,9 +1,17 @@
-"""The driver of many runs: a job finished before is counted, reported and not run again."""
+"""The driver of many runs: a job finished before is counted, reported and not run again; a
+job whose driver is killed ends, however the driver was started."""
 
 from __future__ import annotations
 
+import os
+import signal
+import subprocess
+import sys
+import time
 from dataclasses import dataclass
 from pathlib import Path
+
+import pytest
 
 from qdsega.driver import run_jobs
 
@@ -33,3 +41,60 @@ def test_finished_jobs_are_reported_and_not_run(tmp_path: Path) -> None:
     assert errors == [None, None, None]
     assert sorted(reported) == ["job0", "job1", "job2"]
     assert list(tmp_path.iterdir()) == []  # no job ran
+
+
+@dataclass(frozen=True)
+class _Endless:
+    """A job that says its process id, then never ends by itself."""
+
+    folder: Path
+
+    def kept(self) -> bool:
+        return False
+
+    def __call__(self) -> str | None:
+        (self.folder / "pid").write_text(str(os.getpid()), encoding="utf-8")
+        while True:
+            time.sleep(0.05)
+
+
+DRIVER = (
+    "import sys; from pathlib import Path; from test_driver import _Endless; "
+    "from qdsega.driver import run_jobs; run_jobs([_Endless(Path(sys.argv[1]))])"
+)
+
+
+def _running(pid: int) -> bool:
+    try:
+        state = Path(f"/proc/{pid}/stat").read_text().split(")")[-1].split()[0]
+    except FileNotFoundError:
+        return False
+    return state != "Z"  # a zombie has ended; only its parent has not reaped it
+
+
+@pytest.mark.parametrize(
+    "sigint", [signal.SIG_DFL, signal.SIG_IGN], ids=["foreground", "background of a script"]
+)
+def test_a_job_ends_when_its_driver_is_killed(tmp_path: Path, sigint: signal.Handlers) -> None:
+    tests = str(Path(__file__).parent)
+    environment = {**os.environ, "PYTHONPATH": os.pathsep.join([tests, *sys.path])}
+    driver = subprocess.Popen(
+        [sys.executable, "-c", DRIVER, str(tmp_path)],
+        env=environment,
+        start_new_session=True,
+        preexec_fn=lambda: signal.signal(signal.SIGINT, sigint),
+    )
+    pid = tmp_path / "pid"
+    deadline = time.monotonic() + 60
+    while not pid.is_file():
+        assert driver.poll() is None and time.monotonic() < deadline, "the job did not start"
+        time.sleep(0.05)
+    driver.kill()  # the driver alone: its job's process is orphaned
+    driver.wait()
+    job = int(pid.read_text())
+    deadline = time.monotonic() + 15
+    while _running(job):
+        if time.monotonic() > deadline:
+            os.kill(job, signal.SIGKILL)
+            pytest.fail("the job went on after its driver was killed")
+        time.sleep(0.1)
