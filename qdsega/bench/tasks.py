@@ -260,8 +260,8 @@ FULL = (
         budgets=(10_000, 100_000, 1_000_000, 10_000_000, 60_000_000),
         forced=(
             "The QDSEGA runs (all three) are the paper's whole protocol, 200 generations of "
-            "10000 trials (up to 6e7 steps, about a minute a seed). The other methods stop at "
-            "1e7 steps (PPO: 64 environments side by side, about 50 minutes a seed)."
+            "10000 trials (up to 6e7 steps). The other methods stop at 1e7 steps (PPO: 64 "
+            "environments side by side)."
         ),
     ),
     _pybullet_task("snake5"),
