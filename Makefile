@@ -54,6 +54,7 @@ test: lint
 test-fast: $(VENV)/extras
 	$(BIN)/pytest -q -n 2 --dist worksteal -m "not slow"
 
-# benchmarks/BENCHMARKS.md from scratch (about an hour on 2 cores; re-running continues).
+# benchmarks/BENCHMARKS.md from scratch (about 9 hours on 2 cores; re-running continues;
+# --ray spreads it over a cluster: docs/benchmarks.md).
 bench: $(VENV)/extras
 	$(BIN)/qdsega bench --out benchmarks --jobs 2

@@ -269,7 +269,7 @@ FULL = (
     _pybullet_task("legged12"),
     _pybullet_task("snake5", "rubble"),
 )
-"""The full benchmark (``qdsega bench``): about an hour on 2 cores."""
+"""The full benchmark (``qdsega bench``): about 17 core-hours, 9 hours on 2 cores."""
 
 QUICK = (
     BenchTask(

@@ -13,7 +13,7 @@ from qdsega.workers.ray_cluster import add_ray_option
 NAME = "bench"
 HELP = (
     "run every method on every task for several seeds and write OUT/BENCHMARKS.md and its "
-    "figures (re-running continues; about an hour on 2 cores, --quick a few minutes)"
+    "figures (re-running continues; about 9 hours on 2 cores, --quick under a minute)"
 )
 
 
