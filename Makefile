@@ -11,7 +11,7 @@ BIN := $(VENV)/bin
 # (left empty, pip takes torch from its usual sources, a local CPU wheel where one is there).
 TORCH_INDEX ?=
 
-.PHONY: demo test test-fast lint bench
+.PHONY: demo test test-fast ruff lint bench
 
 # The core package alone: everything the demo needs.
 $(BIN)/qdsega: pyproject.toml
@@ -41,14 +41,21 @@ demo: $(BIN)/qdsega
 	$(BIN)/qdsega plot $(DEMO)
 	$(BIN)/qdsega report $(DEMO)
 
-lint: $(VENV)/extras
-	$(BIN)/ruff check qdsega tools experiments tests
-	$(BIN)/ruff format --check qdsega tools experiments tests
+SOURCES := qdsega tools experiments tests
+
+ruff: $(VENV)/extras
+	$(BIN)/ruff check $(SOURCES)
+	$(BIN)/ruff format --check $(SOURCES)
+
+lint: ruff
 	$(BIN)/mypy
 
-# Everything: ruff and mypy, then every test (the slow end-to-end ones too) on two processes.
-test: lint
-	$(BIN)/pytest -q -n 2 --dist worksteal
+# Everything: ruff, then every test (the slow end-to-end ones too) on two processes with mypy
+# beside them (the tests leave a core idle now and then, and mypy takes it); fails if either does.
+test: ruff
+	@$(BIN)/mypy & checker=$$!; \
+	$(BIN)/pytest -q -n 2 --dist worksteal; tests=$$?; \
+	wait $$checker && exit $$tests
 
 # The fast tier, for working: every test not marked slow (under a minute).
 test-fast: $(VENV)/extras

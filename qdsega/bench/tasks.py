@@ -290,7 +290,7 @@ QUICK = (
         name="snake5-pybullet",
         formation="snake5",
         sim="pybullet",
-        budget_steps=360,  # one CMA-ES iteration: 11 trials
+        budget_steps=120,  # four trials
         seeds=1,
         generations=1,
         trials=50,
@@ -298,8 +298,8 @@ QUICK = (
         ppo_steps=30,
         # one of each way into PyBullet: a learner's run, open-loop sequences, an env, and
         # joint control (both joint learners: 360 env steps each, one trial's physics time)
-        methods=("qdsega", "cma-cpg", "ppo", "ppo-joint", "sac-joint"),
-        budgets=(120, 360),
+        methods=("qdsega", "random-search", "ppo", "ppo-joint", "sac-joint"),
+        budgets=(60, 120),
         forced="Quick mode: tiny budgets that check the pipeline, not the methods.",
     ),
 )

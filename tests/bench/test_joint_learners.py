@@ -22,13 +22,16 @@ MSM = next(task for task in QUICK if task.sim == "msm")
 @pytest.mark.skipif(
     importlib.util.find_spec("stable_baselines3") is None, reason="needs qdsega[bench]"
 )
-@pytest.mark.parametrize("learner", ["ppo", "sac"])
-def test_a_joint_learner_spends_its_budget_and_depends_on_its_seed_only(learner):
-    # 240 env steps: PPO one update (rollouts of 192), SAC 140 (from its 100th step)
-    task = dataclasses.replace(SNAKE, budget_steps=20)
-    first = joint_curve(task, 0, learner=learner, score_every=16)
-    again = joint_curve(task, 0, learner=learner, score_every=16)
-    assert first.steps.tolist() == [16, 20]  # the interval's point, then the budget's end
+@pytest.mark.parametrize(
+    ("learner", "budget", "every"),
+    # PPO: 240 env steps, one update (rollouts of 192); SAC: 120, 20 updates (from its 100th)
+    [("ppo", 20, 16), ("sac", 10, 8)],
+)
+def test_a_joint_learner_spends_its_budget_and_depends_on_its_seed_only(learner, budget, every):
+    task = dataclasses.replace(SNAKE, budget_steps=budget)
+    first = joint_curve(task, 0, learner=learner, score_every=every)
+    again = joint_curve(task, 0, learner=learner, score_every=every)
+    assert first.steps.tolist() == [every, budget]  # the interval's point, the budget's end
     assert np.all(np.isfinite(first.distance_m))
     assert np.array_equal(first.steps, again.steps)
     assert np.array_equal(first.distance_m, again.distance_m)

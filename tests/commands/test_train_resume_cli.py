@@ -79,13 +79,19 @@ _MOMENTS = {
 }
 
 
+MSM_MOMENTS = (*_MOMENTS, "at a random moment")
+MEMO_MOMENTS = ("during the first generation", "after two generations")
+"""Where memo mode's state (the measured table, in the checkpoint) exists: killed before the
+first checkpoint, a run restarts whatever its simulator, as the MSM's case shows."""
+
+
 @pytest.mark.parametrize(
     ("kind", "moment"),
     [
         *(
             (kind, moment)
             for kind in ("msm", "memo")
-            for moment in [*_MOMENTS, *(("at a random moment",) if kind == "msm" else ())]
+            for moment in (MSM_MOMENTS if kind == "msm" else MEMO_MOMENTS)
         ),
         ("memo in a world", "after two generations"),
     ],
