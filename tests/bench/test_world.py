@@ -11,6 +11,7 @@ import numpy as np
 import pytest
 from helpers import run_cli
 
+from qdsega.baselines.reference_search import SHIPPED_DIR, reference_key
 from qdsega.bench import runner
 from qdsega.bench.curve import Curve
 from qdsega.bench.report import Provenance, write_report
@@ -124,3 +125,11 @@ def test_the_report_names_each_tasks_world(tmp_path):
         out=tmp_path,
     )
     assert "snake5 in the PyBullet world stairs (" in file.read_text()
+
+
+@pytest.mark.parametrize("task", [t for t in FULL if t.sim == "pybullet"], ids=lambda t: t.name)
+def test_every_full_pybullet_task_ships_its_yardstick(task):
+    """A report of the full benchmark never waits on a reference search (rubble's took 25
+    minutes): when this fails, run ``tools/reference_search.py FORMATION --world WORLD --ship``."""
+    key = reference_key(task.load(), rules=task.exact_rules())
+    assert (SHIPPED_DIR / f"{task.formation}-{key[:16]}.json").is_file(), task.name
