@@ -92,7 +92,7 @@ def load_yaml(file: Path, *, error_type: type[QdsegaError] = FormationError) -> 
     except (OSError, UnicodeDecodeError) as exc:
         raise error_type(f"cannot read file ({exc.__class__.__name__})", file=file) from None
     try:
-        root = yaml.compose(text, Loader=yaml.SafeLoader)
+        root = _compose(text)
     except RecursionError:
         raise error_type(f"nested deeper than {MAX_YAML_DEPTH} levels", file=file) from None
     except yaml.MarkedYAMLError as exc:
@@ -111,6 +111,23 @@ def load_yaml(file: Path, *, error_type: type[QdsegaError] = FormationError) -> 
     converter = _Converter(file, error_type)
     data = converter.plain(root, ())
     return YamlDocument(file=file, data=data, lines=converter.lines, error_type=error_type)
+
+
+_FAST_LOADER: type[yaml.CSafeLoader] | None = getattr(yaml, "CSafeLoader", None)
+"""libyaml's safe loader, where PyYAML was built with it: the same nodes, composed in C (a
+formation reads about ten times faster than with the pure-Python loader)."""
+
+
+def _compose(text: str) -> yaml.Node | None:
+    """The document's root node, composed by libyaml where it can; a document it refuses is
+    composed again by the pure-Python loader, whose error names the problem and its line
+    in the words every installation gives."""
+    if _FAST_LOADER is not None:
+        try:
+            return yaml.compose(text, Loader=_FAST_LOADER)
+        except yaml.YAMLError:
+            pass
+    return yaml.compose(text, Loader=yaml.SafeLoader)
 
 
 _SCALAR_CONSTRUCTOR = yaml.SafeLoader("")
