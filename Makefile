@@ -52,9 +52,11 @@ lint: ruff
 
 # Everything: ruff, then every test (the slow end-to-end ones too) on two processes with mypy
 # beside them (the tests leave a core idle now and then, and mypy takes it); fails if either does.
+# Bytecode is written even where PYTHONDONTWRITEBYTECODE is set: the tests start many processes,
+# and each would compile the package again.
 test: ruff
 	@$(BIN)/mypy & checker=$$!; \
-	$(BIN)/pytest -q -n 2 --dist worksteal; tests=$$?; \
+	PYTHONDONTWRITEBYTECODE= $(BIN)/pytest -q -n 2 --dist worksteal; tests=$$?; \
 	wait $$checker && exit $$tests
 
 # The fast tier, for working: every test not marked slow (under a minute).

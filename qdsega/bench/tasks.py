@@ -295,9 +295,9 @@ QUICK = (
         generations=1,
         trials=50,
         population=6,
-        ppo_steps=30,
+        ppo_steps=15,
         # one of each way into PyBullet: a learner's run, open-loop sequences, an env, and
-        # joint control (both joint learners: 360 env steps each, one trial's physics time)
+        # joint control (both joint learners: 180 env steps each, half a trial's physics time)
         methods=("qdsega", "random-search", "ppo", "ppo-joint", "sac-joint"),
         budgets=(60, 120),
         forced="Quick mode: tiny budgets that check the pipeline, not the methods.",

@@ -28,7 +28,7 @@ MSM = next(task for task in QUICK if task.sim == "msm")
     [("ppo", 20, 16), ("sac", 10, 8)],
 )
 def test_a_joint_learner_spends_its_budget_and_depends_on_its_seed_only(learner, budget, every):
-    task = dataclasses.replace(SNAKE, budget_steps=budget)
+    task = dataclasses.replace(SNAKE, budget_steps=budget, ppo_steps=budget)
     first = joint_curve(task, 0, learner=learner, score_every=every)
     again = joint_curve(task, 0, learner=learner, score_every=every)
     assert first.steps.tolist() == [every, budget]  # the interval's point, the budget's end
