@@ -26,10 +26,12 @@ RUNS = sum(len(task.methods) * task.seeds for task in QUICK)
 
 @pytest.fixture(scope="session")
 def quick(tmp_path_factory):
-    """``bench --quick`` into ``out``, made once for both tests, and what it returned."""
+    """``bench --quick`` into ``out``, made once for both tests, and what it returned (one
+    job at a time: a second would import torch again; tests/test_driver.py runs jobs side by
+    side)."""
 
     def make(folder):
-        result = run_cli("bench", "--quick", "--out", folder / "out", "--jobs", "2")
+        result = run_cli("bench", "--quick", "--out", folder / "out", "--jobs", "1")
         save_result(result, folder / "result.json")
 
     folder = made_once(tmp_path_factory, "bench-quick", make)
