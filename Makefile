@@ -50,18 +50,20 @@ ruff: $(VENV)/extras
 lint: ruff
 	$(BIN)/mypy
 
-# Everything: ruff, then every test (the slow end-to-end ones too) on two processes with mypy
-# beside them (the tests leave a core idle now and then, and mypy takes it); fails if either does.
-# Bytecode is written even where PYTHONDONTWRITEBYTECODE is set: the tests start many processes,
-# and each would compile the package again.
+# The tests on two processes. Bytecode is written even where PYTHONDONTWRITEBYTECODE is set: the
+# tests start many processes, and each would compile the package again.
+PYTEST := PYTHONDONTWRITEBYTECODE= $(BIN)/pytest -q -n 2 --dist worksteal
+
+# Everything: ruff, then every test (the slow end-to-end ones too) with mypy beside them (the
+# tests leave a core idle now and then, and mypy takes it); fails if either does.
 test: ruff
 	@$(BIN)/mypy & checker=$$!; \
-	PYTHONDONTWRITEBYTECODE= $(BIN)/pytest -q -n 2 --dist worksteal; tests=$$?; \
+	$(PYTEST); tests=$$?; \
 	wait $$checker && exit $$tests
 
 # The fast tier, for working: every test not marked slow (under a minute).
 test-fast: $(VENV)/extras
-	$(BIN)/pytest -q -n 2 --dist worksteal -m "not slow"
+	$(PYTEST) -m "not slow"
 
 # benchmarks/BENCHMARKS.md from scratch (about 9 hours on 2 cores; re-running continues;
 # --ray spreads it over a cluster: docs/benchmarks.md).
