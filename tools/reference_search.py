@@ -5,9 +5,9 @@ Usage: .venv/bin/python tools/reference_search.py FORMATION [--preset NAME] [--w
 
 The rules are those ``qdsega train --preset NAME`` uses (trial length, lower agent, physics;
 every shipped preset has the same ones), in ``--world`` (a shipped world's name or a world file;
-default the flat plane) under its light where it names one. The result is cached
-(``$QDSEGA_CACHE/references``, default ``~/.cache/qdsega/references``), so a second call with
-the same arguments prints the stored search at once. ``--ship`` also copies it into
+default the flat plane, as the benchmark reads it) under its light where it names one. The
+result is cached (``$QDSEGA_CACHE/references``, default ``~/.cache/qdsega/references``), so a
+second call with the same arguments prints the stored search at once. ``--ship`` also copies it into
 ``qdsega/baselines/references/``, where ``qdsega evaluate`` and ``qdsega bench`` find it on
 every machine with the same PyBullet version.
 """
@@ -20,7 +20,8 @@ import shutil
 from pathlib import Path
 
 from qdsega.baselines.reference_search import DEFAULT_BUDGET_TRIALS, SHIPPED_DIR, reference_gait
-from qdsega.description import World, load_formation, named_world, resolve_formation
+from qdsega.bench.tasks import FLAT, read_world
+from qdsega.description import load_formation, resolve_formation
 from qdsega.training.config import resolve_config
 
 
@@ -28,7 +29,9 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("formation", type=Path, help="formation YAML file or shipped name")
     parser.add_argument("--preset", help="training preset whose rules apply (default: default)")
-    parser.add_argument("--world", help="shipped world name or world file (default: flat)")
+    parser.add_argument(
+        "--world", default=FLAT, help="shipped world name or world file (default: flat)"
+    )
     parser.add_argument("--budget-trials", type=int, default=DEFAULT_BUDGET_TRIALS)
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--workers", type=int, default=2)
@@ -38,7 +41,7 @@ def main() -> None:
     args = parser.parse_args()
     try:
         config = resolve_config(preset=args.preset)
-        world = World() if args.world is None else named_world(args.world)
+        world = read_world(args.world)
         formation = world.lights(load_formation(resolve_formation(args.formation)))
         result = reference_gait(
             formation,
